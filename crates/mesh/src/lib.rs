@@ -1,1 +1,21 @@
-pub fn _x(){}
+//! The triangle mesh of flatcut and everything derived from it.
+//!
+//! [`TriMesh`] is plain arrays (f64 positions in millimetres, u32 triangles).
+//! [`Topology`] derives connectivity from it once; [`geometry`] computes angles, areas and
+//! weights; [`bvh`] answers closest-point and ray queries; [`clean`] repairs scans;
+//! [`shapes`] makes the procedural surfaces tests and the demo run on.
+
+mod error;
+pub mod bvh;
+pub mod clean;
+pub mod geometry;
+mod ids;
+mod topology;
+mod trimesh;
+pub mod shapes;
+pub mod vec3;
+
+pub use error::MeshError;
+pub use ids::{FaceId, VertexId};
+pub use topology::{ComponentSummary, INVALID, Topology};
+pub use trimesh::{FaceLabels, TriMesh, VertexAttributes};

@@ -1,0 +1,141 @@
+//! Discrete differential geometry of a triangle mesh: corner angles, face areas and
+//! normals, the summed angle θ(v) and angle defect 2π − θ(v), the mixed Voronoi area of
+//! Meyer et al. 2003, and cotangent weights.
+//!
+//! Every function takes positions and faces separately, so that an algorithm moving the
+//! vertices (the flattenable iteration) can evaluate geometry on its own position buffer.
+
+use std::f64::consts::{PI, TAU};
+
+use crate::vec3::{angle, cross, dot, norm, sub};
+use crate::{Topology, TriMesh, VertexId};
+
+/// The three corner angles of a triangle in radians, at `p0`, `p1`, `p2`, in the atan2 form
+/// (stable near 0 and π).
+#[inline]
+pub fn triangle_angles(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3]) -> [f64; 3] {
+    [angle(sub(p1, p0), sub(p2, p0)), angle(sub(p2, p1), sub(p0, p1)), angle(sub(p0, p2), sub(p1, p2))]
+}
+
+/// Corner angles of every face: `angles[f][k]` is the angle at `faces[f][k]`.
+pub fn corner_angles(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]> {
+    faces
+        .iter()
+        .map(|f| triangle_angles(positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]))
+        .collect()
+}
+
+/// Area of a triangle.
+#[inline]
+pub fn triangle_area(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3]) -> f64 {
+    0.5 * norm(cross(sub(p1, p0), sub(p2, p0)))
+}
+
+/// Area of every face.
+pub fn face_areas(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
+    faces
+        .iter()
+        .map(|f| triangle_area(positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]))
+        .collect()
+}
+
+/// Unit normal of every face (counter-clockwise corners); zero for a degenerate face.
+pub fn face_normals(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]> {
+    faces
+        .iter()
+        .map(|f| {
+            let (p0, p1, p2) = (positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]);
+            crate::vec3::normalize(cross(sub(p1, p0), sub(p2, p0)))
+        })
+        .collect()
+}
+
+/// Total surface area.
+pub fn total_area(mesh: &TriMesh) -> f64 {
+    face_areas(&mesh.positions, &mesh.faces).iter().sum()
+}
+
+/// θ(v): the sum of the corner angles at each vertex (0 for unused vertices).
+pub fn angle_sums(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
+    let mut theta = vec![0.0; positions.len()];
+    for f in faces {
+        let a = triangle_angles(positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]);
+        for k in 0..3 {
+            theta[f[k] as usize] += a[k];
+        }
+    }
+    theta
+}
+
+/// The angle defect 2π − θ(v) at each interior vertex (`None` elsewhere): the discrete
+/// Gaussian curvature integrated over the vertex's area; zero everywhere iff the patch is
+/// developable.
+pub fn angle_defects(positions: &[[f64; 3]], faces: &[[u32; 3]], topo: &Topology) -> Vec<Option<f64>> {
+    angle_sums(positions, faces)
+        .into_iter()
+        .enumerate()
+        .map(|(v, t)| topo.is_interior_vertex(VertexId(v as u32)).then_some(TAU - t))
+        .collect()
+}
+
+/// The mixed Voronoi area of each vertex (Meyer, Desbrun, Schröder, Barr 2003, Fig. 4):
+/// in a non-obtuse triangle each corner gets its Voronoi region
+/// (|e|² cot of the opposite angles / 8); in an obtuse triangle the obtuse corner gets half
+/// the area and the others a quarter. The areas sum to the total area exactly.
+pub fn mixed_areas(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
+    let mut area = vec![0.0; positions.len()];
+    for f in faces {
+        let p = [positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]];
+        let a = triangle_area(p[0], p[1], p[2]);
+        if a <= 0.0 {
+            continue;
+        }
+        let ang = triangle_angles(p[0], p[1], p[2]);
+        if let Some(obtuse) = (0..3).find(|&k| ang[k] > PI / 2.0) {
+            for k in 0..3 {
+                area[f[k] as usize] += if k == obtuse { a / 2.0 } else { a / 4.0 };
+            }
+        } else {
+            for k in 0..3 {
+                // Corner k's Voronoi share: the two edges at k, each weighted by the cotangent
+                // of the angle opposite that edge.
+                let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                let e_ki = crate::vec3::norm2(sub(p[i], p[k]));
+                let e_kj = crate::vec3::norm2(sub(p[j], p[k]));
+                area[f[k] as usize] += (e_ki * cot(ang[j]) + e_kj * cot(ang[i])) / 8.0;
+            }
+        }
+    }
+    area
+}
+
+#[inline]
+fn cot(theta: f64) -> f64 {
+    theta.cos() / theta.sin()
+}
+
+/// Cotangent of the corner angle at `p0` computed from the vectors (dot / |cross|).
+#[inline]
+pub fn corner_cot(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3]) -> f64 {
+    let (u, w) = (sub(p1, p0), sub(p2, p0));
+    dot(u, w) / norm(cross(u, w))
+}
+
+/// Cotangent weights per undirected edge of `topo`, w_ij = (cot α_ij + cot β_ij) / 2, the
+/// angles opposite the edge in its faces (one term on a boundary edge). Degenerate faces
+/// contribute nothing rather than infinity.
+pub fn cotan_weights(positions: &[[f64; 3]], faces: &[[u32; 3]], topo: &Topology) -> Vec<f64> {
+    let mut w = vec![0.0; topo.edges().len()];
+    for (fi, f) in faces.iter().enumerate() {
+        let p = [positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]];
+        for k in 0..3 {
+            // Halfedge 3f+k runs f[k] → f[k+1]; the opposite corner is k+2.
+            let o = (k + 2) % 3;
+            let c = corner_cot(p[o], p[(o + 1) % 3], p[(o + 2) % 3]);
+            if c.is_finite() {
+                w[topo.edge_of((3 * fi + k) as u32) as usize] += 0.5 * c;
+            }
+        }
+    }
+    w
+}
