@@ -9,6 +9,8 @@ pub struct VertexAttributes {
     pub colors: Option<Vec<[f32; 4]>>,
     /// A scalar field (an error map, a weight), one per vertex.
     pub scalar: Option<Vec<f64>>,
+    /// 2D texture / pattern coordinates in millimetres, one per vertex (a flattening).
+    pub texcoords: Option<Vec<[f64; 2]>>,
 }
 
 /// Named groups of faces (OBJ `g`/`o`, glTF primitives), one label per face.
@@ -101,6 +103,11 @@ impl TriMesh {
             && s.len() != n
         {
             return Err(MeshError::AttributeLength { name: "scalar", len: s.len(), vertex_count: n });
+        }
+        if let Some(t) = &self.attributes.texcoords
+            && t.len() != n
+        {
+            return Err(MeshError::AttributeLength { name: "texcoords", len: t.len(), vertex_count: n });
         }
         if let Some(l) = &self.face_labels
             && l.labels.len() != self.faces.len()
