@@ -14,14 +14,24 @@ use crate::{Topology, TriMesh, VertexId};
 /// (stable near 0 and π).
 #[inline]
 pub fn triangle_angles(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3]) -> [f64; 3] {
-    [angle(sub(p1, p0), sub(p2, p0)), angle(sub(p2, p1), sub(p0, p1)), angle(sub(p0, p2), sub(p1, p2))]
+    [
+        angle(sub(p1, p0), sub(p2, p0)),
+        angle(sub(p2, p1), sub(p0, p1)),
+        angle(sub(p0, p2), sub(p1, p2)),
+    ]
 }
 
 /// Corner angles of every face: `angles[f][k]` is the angle at `faces[f][k]`.
 pub fn corner_angles(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]> {
     faces
         .iter()
-        .map(|f| triangle_angles(positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]))
+        .map(|f| {
+            triangle_angles(
+                positions[f[0] as usize],
+                positions[f[1] as usize],
+                positions[f[2] as usize],
+            )
+        })
         .collect()
 }
 
@@ -35,7 +45,13 @@ pub fn triangle_area(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3]) -> f64 {
 pub fn face_areas(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
     faces
         .iter()
-        .map(|f| triangle_area(positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]))
+        .map(|f| {
+            triangle_area(
+                positions[f[0] as usize],
+                positions[f[1] as usize],
+                positions[f[2] as usize],
+            )
+        })
         .collect()
 }
 
@@ -44,7 +60,11 @@ pub fn face_normals(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]>
     faces
         .iter()
         .map(|f| {
-            let (p0, p1, p2) = (positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]);
+            let (p0, p1, p2) = (
+                positions[f[0] as usize],
+                positions[f[1] as usize],
+                positions[f[2] as usize],
+            );
             crate::vec3::normalize(cross(sub(p1, p0), sub(p2, p0)))
         })
         .collect()
@@ -59,7 +79,11 @@ pub fn total_area(mesh: &TriMesh) -> f64 {
 pub fn angle_sums(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
     let mut theta = vec![0.0; positions.len()];
     for f in faces {
-        let a = triangle_angles(positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]);
+        let a = triangle_angles(
+            positions[f[0] as usize],
+            positions[f[1] as usize],
+            positions[f[2] as usize],
+        );
         for k in 0..3 {
             theta[f[k] as usize] += a[k];
         }
@@ -70,11 +94,18 @@ pub fn angle_sums(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
 /// The angle defect 2π − θ(v) at each interior vertex (`None` elsewhere): the discrete
 /// Gaussian curvature integrated over the vertex's area; zero everywhere iff the patch is
 /// developable.
-pub fn angle_defects(positions: &[[f64; 3]], faces: &[[u32; 3]], topo: &Topology) -> Vec<Option<f64>> {
+pub fn angle_defects(
+    positions: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    topo: &Topology,
+) -> Vec<Option<f64>> {
     angle_sums(positions, faces)
         .into_iter()
         .enumerate()
-        .map(|(v, t)| topo.is_interior_vertex(VertexId(v as u32)).then_some(TAU - t))
+        .map(|(v, t)| {
+            topo.is_interior_vertex(VertexId(v as u32))
+                .then_some(TAU - t)
+        })
         .collect()
 }
 
@@ -85,7 +116,11 @@ pub fn angle_defects(positions: &[[f64; 3]], faces: &[[u32; 3]], topo: &Topology
 pub fn mixed_areas(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
     let mut area = vec![0.0; positions.len()];
     for f in faces {
-        let p = [positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]];
+        let p = [
+            positions[f[0] as usize],
+            positions[f[1] as usize],
+            positions[f[2] as usize],
+        ];
         let a = triangle_area(p[0], p[1], p[2]);
         if a <= 0.0 {
             continue;
@@ -127,7 +162,11 @@ pub fn corner_cot(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3]) -> f64 {
 pub fn cotan_weights(positions: &[[f64; 3]], faces: &[[u32; 3]], topo: &Topology) -> Vec<f64> {
     let mut w = vec![0.0; topo.edges().len()];
     for (fi, f) in faces.iter().enumerate() {
-        let p = [positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]];
+        let p = [
+            positions[f[0] as usize],
+            positions[f[1] as usize],
+            positions[f[2] as usize],
+        ];
         for k in 0..3 {
             // Halfedge 3f+k runs f[k] → f[k+1]; the opposite corner is k+2.
             let o = (k + 2) % 3;
@@ -138,4 +177,20 @@ pub fn cotan_weights(positions: &[[f64; 3]], faces: &[[u32; 3]], topo: &Topology
         }
     }
     w
+}
+
+/// Relative area below which a triangle counts as degenerate: area ≤ (ε · diagonal)² with
+/// ε = 1e-10. At that size the triangle's angles and normal are no longer meaningful in f64
+/// (its edge vectors cancel to ~1e-16 relative), while any sliver a scanner produces at a
+/// real resolution (≥ 1e-6 of the part size) stays well above it.
+pub const DEGENERATE_AREA_RELATIVE: f64 = 1e-10;
+
+/// Is a face degenerate: a repeated vertex index, or an area ≤ (ε · `diagonal`)² with
+/// ε = [`DEGENERATE_AREA_RELATIVE`] (`diagonal` is the mesh's bounding-box diagonal)?
+pub fn is_degenerate_face(face: [u32; 3], corners: [[f64; 3]; 3], diagonal: f64) -> bool {
+    if face[0] == face[1] || face[1] == face[2] || face[0] == face[2] {
+        return true;
+    }
+    let limit = DEGENERATE_AREA_RELATIVE * diagonal;
+    triangle_area(corners[0], corners[1], corners[2]) <= limit * limit
 }

@@ -5,17 +5,19 @@
 //! weights; [`bvh`] answers closest-point and ray queries; [`clean`] repairs scans;
 //! [`shapes`] makes the procedural surfaces tests and the demo run on.
 
-mod error;
 pub mod bvh;
 pub mod clean;
+mod error;
 pub mod geometry;
 mod ids;
+mod info;
+pub mod shapes;
 mod topology;
 mod trimesh;
-pub mod shapes;
 pub mod vec3;
 
 pub use error::MeshError;
 pub use ids::{FaceId, VertexId};
+pub use info::{MeshInfo, mesh_info};
 pub use topology::{ComponentSummary, INVALID, Topology};
 pub use trimesh::{FaceLabels, TriMesh, VertexAttributes};
