@@ -35,6 +35,7 @@ pub struct Topology {
     boundary_vertex: Vec<bool>,
     non_manifold_vertex: Vec<bool>,
     boundary_loops: Vec<Vec<VertexId>>,
+    open_boundary_chains: Vec<Vec<VertexId>>,
     /// CSR: ordered one-ring of each manifold vertex (empty for others).
     ring_offsets: Vec<u32>,
     ring: Vec<u32>,
@@ -50,12 +51,19 @@ impl Topology {
         for (f, face) in mesh.faces.iter().enumerate() {
             for &i in face {
                 if i as usize >= n {
-                    return Err(MeshError::FaceIndexOutOfRange { face: FaceId(f as u32), index: i, vertex_count: n });
+                    return Err(MeshError::FaceIndexOutOfRange {
+                        face: FaceId(f as u32),
+                        index: i,
+                        vertex_count: n,
+                    });
                 }
             }
         }
         if mesh.faces.len() * 3 >= INVALID as usize {
-            return Err(MeshError::TooLarge { what: "faces", count: mesh.faces.len() });
+            return Err(MeshError::TooLarge {
+                what: "faces",
+                count: mesh.faces.len(),
+            });
         }
         let faces = mesh.faces.clone();
         let nh = faces.len() * 3;
@@ -77,7 +85,9 @@ impl Topology {
             vertex_out[fill[t] as usize] = h as u32;
             fill[t] += 1;
         }
-        let referenced: Vec<bool> = (0..n).map(|v| vertex_out_offsets[v + 1] > vertex_out_offsets[v]).collect();
+        let referenced: Vec<bool> = (0..n)
+            .map(|v| vertex_out_offsets[v + 1] > vertex_out_offsets[v])
+            .collect();
 
         // Halfedges bucketed by their smaller endpoint; within a bucket, grouped by the larger.
         let mut key_offsets = vec![0u32; n + 1];
@@ -104,7 +114,11 @@ impl Topology {
         for m in 0..n {
             let (s, e) = (key_offsets[m] as usize, key_offsets[m + 1] as usize);
             bucket.clear();
-            bucket.extend(by_key[s..e].iter().map(|&h| (tail(h as usize).max(head(h as usize)), h)));
+            bucket.extend(
+                by_key[s..e]
+                    .iter()
+                    .map(|&h| (tail(h as usize).max(head(h as usize)), h)),
+            );
             bucket.sort_unstable();
             let mut i = 0;
             while i < bucket.len() {
@@ -147,7 +161,8 @@ impl Topology {
         let mut non_manifold_vertex = vec![false; n];
         let mut parent: Vec<usize> = Vec::new();
         for v in 0..n {
-            let outs = &vertex_out[vertex_out_offsets[v] as usize..vertex_out_offsets[v + 1] as usize];
+            let outs =
+                &vertex_out[vertex_out_offsets[v] as usize..vertex_out_offsets[v + 1] as usize];
             if outs.len() <= 1 {
                 continue;
             }
@@ -162,11 +177,19 @@ impl Topology {
             }
             for a in 0..outs.len() {
                 let ha = outs[a] as usize;
-                let ea = [halfedge_edge[ha], halfedge_edge[3 * (ha / 3) + (ha % 3 + 2) % 3]];
-                for b in a + 1..outs.len() {
-                    let hb = outs[b] as usize;
-                    let eb = [halfedge_edge[hb], halfedge_edge[3 * (hb / 3) + (hb % 3 + 2) % 3]];
-                    let shares = ea.iter().any(|x| edge_face_count[*x as usize] == 2 && eb.contains(x));
+                let ea = [
+                    halfedge_edge[ha],
+                    halfedge_edge[3 * (ha / 3) + (ha % 3 + 2) % 3],
+                ];
+                for (b, &hb) in outs.iter().enumerate().skip(a + 1) {
+                    let hb = hb as usize;
+                    let eb = [
+                        halfedge_edge[hb],
+                        halfedge_edge[3 * (hb / 3) + (hb % 3 + 2) % 3],
+                    ];
+                    let shares = ea
+                        .iter()
+                        .any(|x| edge_face_count[*x as usize] == 2 && eb.contains(x));
                     if shares {
                         let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
                         parent[ra] = rb;
@@ -193,13 +216,14 @@ impl Topology {
             boundary_vertex,
             non_manifold_vertex,
             boundary_loops: Vec::new(),
+            open_boundary_chains: Vec::new(),
             ring_offsets: Vec::new(),
             ring: Vec::new(),
             face_component: Vec::new(),
             vertex_component: Vec::new(),
             component_count: 0,
         };
-        topo.boundary_loops = topo.trace_boundary_loops();
+        (topo.boundary_loops, topo.open_boundary_chains) = topo.trace_boundary_loops();
         topo.build_rings();
         topo.label_components();
         Ok(topo)
@@ -219,17 +243,22 @@ impl Topology {
 
     /// Boundary loops follow face orientation: each step is a boundary halfedge, and the next
     /// one leaves the current head inside the same fan (found by rotating through twins).
-    fn trace_boundary_loops(&self) -> Vec<Vec<VertexId>> {
+    /// Where a non-manifold or inconsistent edge cuts the fan, the walk closes the loop if the
+    /// start halfedge leaves the current vertex, else takes any unused boundary halfedge
+    /// leaving it; a walk that gets stuck is returned as an open chain (second value) instead
+    /// of being closed with an edge that does not exist.
+    fn trace_boundary_loops(&self) -> (Vec<Vec<VertexId>>, Vec<Vec<VertexId>>) {
         let nh = self.faces.len() * 3;
         let mut used = vec![false; nh];
         let mut loops = Vec::new();
+        let mut chains = Vec::new();
         for start in 0..nh {
             if used[start] || !self.is_boundary_halfedge(start) {
                 continue;
             }
             let mut lp = Vec::new();
             let mut h = start;
-            loop {
+            let closed = loop {
                 used[h] = true;
                 lp.push(VertexId(self.tail(h)));
                 // Rotate around head(h) through twins until a boundary halfedge leaves it.
@@ -243,24 +272,32 @@ impl Topology {
                     }
                     g = Self::next(t) as usize;
                 }
-                if !self.is_boundary_halfedge(g) {
-                    // The fan is cut by a non-manifold or inconsistent edge: fall back to any
-                    // unused boundary halfedge leaving this vertex.
-                    let v = self.head(h) as usize;
-                    let outs = self.outgoing(VertexId(v as u32));
-                    match outs.iter().map(|&x| x as usize).find(|&x| self.is_boundary_halfedge(x) && !used[x]) {
-                        Some(x) => g = x,
-                        None => break,
+                let found = if self.is_boundary_halfedge(g) && (!used[g] || g == start) {
+                    Some(g)
+                } else {
+                    let outs = self.outgoing(VertexId(self.head(h)));
+                    if outs.contains(&(start as u32)) {
+                        Some(start)
+                    } else {
+                        outs.iter()
+                            .map(|&x| x as usize)
+                            .find(|&x| self.is_boundary_halfedge(x) && !used[x])
                     }
+                };
+                match found {
+                    Some(g) if g == start => break true,
+                    Some(g) => h = g,
+                    None => break false,
                 }
-                if used[g] {
-                    break;
-                }
-                h = g;
+            };
+            if closed {
+                loops.push(lp);
+            } else {
+                lp.push(VertexId(self.head(h)));
+                chains.push(lp);
             }
-            loops.push(lp);
         }
-        loops
+        (loops, chains)
     }
 
     fn build_rings(&mut self) {
@@ -287,7 +324,9 @@ impl Topology {
         }
         let outs = self.outgoing(VertexId(v as u32));
         let start = if self.boundary_vertex[v] {
-            *outs.iter().find(|&&h| self.is_boundary_halfedge(h as usize))? as usize
+            *outs
+                .iter()
+                .find(|&&h| self.is_boundary_halfedge(h as usize))? as usize
         } else {
             outs[0] as usize
         };
@@ -312,7 +351,11 @@ impl Topology {
                 return None;
             }
         }
-        let expected = if self.boundary_vertex[v] { outs.len() + 1 } else { outs.len() };
+        let expected = if self.boundary_vertex[v] {
+            outs.len() + 1
+        } else {
+            outs.len()
+        };
         (r.len() == expected).then_some(r)
     }
 
@@ -350,10 +393,10 @@ impl Topology {
             face_component.push(label[r]);
         }
         let mut vertex_component = vec![INVALID; n];
-        for v in 0..n {
+        for (v, comp) in vertex_component.iter_mut().enumerate() {
             if self.referenced[v] {
                 let r = find(&mut parent, v as u32) as usize;
-                vertex_component[v] = label[r];
+                *comp = label[r];
             }
         }
         self.face_component = face_component;
@@ -417,7 +460,8 @@ impl Topology {
     /// Halfedges leaving `v` (one per incident face).
     pub fn outgoing(&self, v: VertexId) -> &[u32] {
         let i = v.idx();
-        &self.vertex_out[self.vertex_out_offsets[i] as usize..self.vertex_out_offsets[i + 1] as usize]
+        &self.vertex_out
+            [self.vertex_out_offsets[i] as usize..self.vertex_out_offsets[i + 1] as usize]
     }
 
     /// Faces incident to `v`, in no particular order.
@@ -465,13 +509,26 @@ impl Topology {
     /// first and last are its two boundary neighbours. `None` for unused or non-manifold vertices.
     pub fn one_ring(&self, v: VertexId) -> Option<&[u32]> {
         let i = v.idx();
-        let (s, e) = (self.ring_offsets[i] as usize, self.ring_offsets[i + 1] as usize);
+        let (s, e) = (
+            self.ring_offsets[i] as usize,
+            self.ring_offsets[i + 1] as usize,
+        );
         (e > s).then(|| &self.ring[s..e])
     }
 
-    /// Boundary loops, each a cycle of vertices in face orientation, in a deterministic order.
+    /// Boundary loops, each a cycle of vertices in face orientation (consecutive vertices,
+    /// last to first included, are a boundary halfedge), in a deterministic order. On a
+    /// mesh with non-manifold or inconsistently oriented edges some boundary halfedges may not
+    /// close into a cycle; they are in [`Topology::open_boundary_chains`], not here.
     pub fn boundary_loops(&self) -> &[Vec<VertexId>] {
         &self.boundary_loops
+    }
+
+    /// Boundary paths that do not close into a cycle (only on meshes with non-manifold or
+    /// inconsistently oriented edges): consecutive vertices are a boundary halfedge in face
+    /// orientation, but last to first is not. Empty on edge-manifold, oriented meshes.
+    pub fn open_boundary_chains(&self) -> &[Vec<VertexId>] {
+        &self.open_boundary_chains
     }
 
     /// Number of connected components (faces joined through shared vertices).
@@ -496,17 +553,28 @@ impl Topology {
 
     /// Edges with more than two faces.
     pub fn non_manifold_edges(&self) -> Vec<[u32; 2]> {
-        self.edges.iter().zip(&self.edge_face_count).filter(|(_, c)| **c > 2).map(|(e, _)| *e).collect()
+        self.edges
+            .iter()
+            .zip(&self.edge_face_count)
+            .filter(|(_, c)| **c > 2)
+            .map(|(e, _)| *e)
+            .collect()
     }
 
     /// Non-manifold vertices.
     pub fn non_manifold_vertices(&self) -> Vec<VertexId> {
-        (0..self.vertex_count as u32).filter(|&v| self.non_manifold_vertex[v as usize]).map(VertexId).collect()
+        (0..self.vertex_count as u32)
+            .filter(|&v| self.non_manifold_vertex[v as usize])
+            .map(VertexId)
+            .collect()
     }
 
     /// Edges whose two faces run them in the same direction (orientation flips).
     pub fn inconsistent_edges(&self) -> Vec<[u32; 2]> {
-        self.inconsistent_edges.iter().map(|&e| self.edges[e as usize]).collect()
+        self.inconsistent_edges
+            .iter()
+            .map(|&e| self.edges[e as usize])
+            .collect()
     }
 
     /// Per component: its Euler characteristic, whether it is closed (no boundary edge), and
@@ -562,6 +630,13 @@ pub struct ComponentSummary {
 
 impl Default for ComponentSummary {
     fn default() -> Self {
-        Self { vertices: 0, edges: 0, faces: 0, euler_characteristic: 0, closed: true, genus: None }
+        Self {
+            vertices: 0,
+            edges: 0,
+            faces: 0,
+            euler_characteristic: 0,
+            closed: true,
+            genus: None,
+        }
     }
 }

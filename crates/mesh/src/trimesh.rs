@@ -42,7 +42,11 @@ pub struct TriMesh {
 impl TriMesh {
     /// A mesh from positions and faces, checked with [`TriMesh::validate`].
     pub fn new(positions: Vec<[f64; 3]>, faces: Vec<[u32; 3]>) -> Result<Self, MeshError> {
-        let mesh = Self { positions, faces, ..Default::default() };
+        let mesh = Self {
+            positions,
+            faces,
+            ..Default::default()
+        };
         mesh.validate()?;
         Ok(mesh)
     }
@@ -69,50 +73,82 @@ impl TriMesh {
     #[inline]
     pub fn triangle(&self, f: FaceId) -> [[f64; 3]; 3] {
         let [a, b, c] = self.faces[f.idx()];
-        [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
     }
 
     /// Checks every invariant the algorithms rely on: indices in range, finite
     /// positions, counts addressable by u32, attribute lengths.
     pub fn validate(&self) -> Result<(), MeshError> {
         if self.positions.len() > u32::MAX as usize {
-            return Err(MeshError::TooLarge { what: "vertices", count: self.positions.len() });
+            return Err(MeshError::TooLarge {
+                what: "vertices",
+                count: self.positions.len(),
+            });
         }
         if self.faces.len() > u32::MAX as usize {
-            return Err(MeshError::TooLarge { what: "faces", count: self.faces.len() });
+            return Err(MeshError::TooLarge {
+                what: "faces",
+                count: self.faces.len(),
+            });
         }
         for (i, p) in self.positions.iter().enumerate() {
             if !p.iter().all(|c| c.is_finite()) {
-                return Err(MeshError::NonFinitePosition { vertex: VertexId(i as u32), position: *p });
+                return Err(MeshError::NonFinitePosition {
+                    vertex: VertexId(i as u32),
+                    position: *p,
+                });
             }
         }
         let n = self.positions.len();
         for (f, face) in self.faces.iter().enumerate() {
             for &i in face {
                 if i as usize >= n {
-                    return Err(MeshError::FaceIndexOutOfRange { face: FaceId(f as u32), index: i, vertex_count: n });
+                    return Err(MeshError::FaceIndexOutOfRange {
+                        face: FaceId(f as u32),
+                        index: i,
+                        vertex_count: n,
+                    });
                 }
             }
         }
         if let Some(c) = &self.attributes.colors
             && c.len() != n
         {
-            return Err(MeshError::AttributeLength { name: "colors", len: c.len(), vertex_count: n });
+            return Err(MeshError::AttributeLength {
+                name: "colors",
+                len: c.len(),
+                vertex_count: n,
+            });
         }
         if let Some(s) = &self.attributes.scalar
             && s.len() != n
         {
-            return Err(MeshError::AttributeLength { name: "scalar", len: s.len(), vertex_count: n });
+            return Err(MeshError::AttributeLength {
+                name: "scalar",
+                len: s.len(),
+                vertex_count: n,
+            });
         }
         if let Some(t) = &self.attributes.texcoords
             && t.len() != n
         {
-            return Err(MeshError::AttributeLength { name: "texcoords", len: t.len(), vertex_count: n });
+            return Err(MeshError::AttributeLength {
+                name: "texcoords",
+                len: t.len(),
+                vertex_count: n,
+            });
         }
         if let Some(l) = &self.face_labels
             && l.labels.len() != self.faces.len()
         {
-            return Err(MeshError::FaceLabelLength { len: l.labels.len(), face_count: self.faces.len() });
+            return Err(MeshError::FaceLabelLength {
+                len: l.labels.len(),
+                face_count: self.faces.len(),
+            });
         }
         Ok(())
     }
@@ -120,7 +156,11 @@ impl TriMesh {
     /// Axis-aligned bounding box of the referenced vertices, or `None` without faces.
     pub fn bounding_box(&self) -> Option<([f64; 3], [f64; 3])> {
         let used = self.referenced_vertices();
-        let mut it = used.iter().enumerate().filter(|(_, u)| **u).map(|(i, _)| self.positions[i]);
+        let mut it = used
+            .iter()
+            .enumerate()
+            .filter(|(_, u)| **u)
+            .map(|(i, _)| self.positions[i]);
         let first = it.next()?;
         let (mut lo, mut hi) = (first, first);
         for p in it {
@@ -148,7 +188,8 @@ impl TriMesh {
     /// Length of the bounding-box diagonal of the referenced vertices (0 without faces);
     /// the natural scale for relative tolerances.
     pub fn diagonal(&self) -> f64 {
-        self.bounding_box().map_or(0.0, |(lo, hi)| crate::vec3::norm(crate::vec3::sub(hi, lo)))
+        self.bounding_box()
+            .map_or(0.0, |(lo, hi)| crate::vec3::norm(crate::vec3::sub(hi, lo)))
     }
 
     /// Multiplies every position by `factor` (unit conversion).
