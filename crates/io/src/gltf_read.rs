@@ -125,6 +125,25 @@ fn parse_document(json: &[u8], path: &Path, in_glb: bool) -> Result<gltf::Docume
             }
         }
     })?;
+    // gltf-json 1.4's validation indexes `accessors[POSITION]` without a bounds check;
+    // check attribute indices first so that a dangling index is an error, not a panic.
+    for (mi, m) in root.meshes.iter().enumerate() {
+        for (pi, p) in m.primitives.iter().enumerate() {
+            for (sem, acc) in &p.attributes {
+                if acc.value() >= root.accessors.len() {
+                    return Err(IoError::Gltf {
+                        path: path.to_path_buf(),
+                        element: format!("mesh {mi} primitive {pi}"),
+                        reason: format!(
+                            "attribute {sem:?} refers to accessor {}, but there are only {}; re-export the file",
+                            acc.value(),
+                            root.accessors.len()
+                        ),
+                    });
+                }
+            }
+        }
+    }
     gltf::Document::from_json(root).map_err(|e| IoError::Gltf {
         path: path.to_path_buf(),
         element: "document".into(),
