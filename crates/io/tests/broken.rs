@@ -1,6 +1,8 @@
 //! Every file in fixtures/broken must be rejected with an error naming the file (and, for
 //! text formats, the line); none may panic.
 
+#![allow(clippy::unwrap_used)] // helpers outside #[test] fns unwrap too
+
 use std::path::PathBuf;
 
 use flatcut_io::{Units, read_mesh};

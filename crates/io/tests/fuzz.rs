@@ -1,5 +1,7 @@
 //! Random bytes and random mutations of the valid fixtures never make a reader panic.
 
+#![allow(clippy::unwrap_used)] // helpers outside #[test] fns unwrap too
+
 use std::path::PathBuf;
 
 use flatcut_io::{Format, Units, read_mesh_from_bytes};

@@ -1,5 +1,7 @@
 //! Write → read round trips: OBJ and PLY (double) are bit-exact, GLB and STL exact to f32.
 
+#![allow(clippy::unwrap_used)] // helpers outside #[test] fns unwrap too
+
 use std::path::Path;
 
 use flatcut_io::{Format, Units, WriteOptions, color, read_mesh, write_mesh};

@@ -1,5 +1,7 @@
 //! The tiny valid fixtures read to exactly the positions and faces they were written with.
 
+#![allow(clippy::unwrap_used)] // helpers outside #[test] fns unwrap too
+
 use std::path::PathBuf;
 
 use flatcut_io::{Format, Units, color, read_mesh, read_mesh_from_bytes};
