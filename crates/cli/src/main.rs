@@ -1,1 +1,56 @@
-fn main(){}
+//! `flatcut`: turn 3D surfaces into 2D cut patterns that sew back without stretch.
+//!
+//! Exit codes: 0 success, 1 bad input or a failed run, 2 bad usage (clap's own code).
+//! A panic is always a bug: the hook below says so and asks for a report.
+
+/// Appends a line to a `String` buffer that the command prints at the end with
+/// [`util::emit`] (so a closed pipe is handled in one place).
+macro_rules! outln {
+    ($o:ident, $($t:tt)*) => {{
+        use std::fmt::Write as _;
+        let _ = writeln!($o, $($t)*);
+    }};
+}
+
+mod demo;
+mod info;
+mod util;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Turn 3D surfaces (body scans, furniture) into 2D cut patterns that sew back without stretch.
+#[derive(Parser, Debug)]
+#[command(name = "flatcut", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Report counts, topology, defects, size and curvature of a mesh file.
+    Info(info::InfoArgs),
+    /// Run the main job on the embedded default: a generated dress form, written and analysed.
+    Demo(demo::DemoArgs),
+}
+
+fn main() -> ExitCode {
+    std::panic::set_hook(Box::new(|info| {
+        eprintln!("flatcut: internal error (a bug, not your input): {info}");
+        eprintln!("Please report it with the command line and the input file.");
+    }));
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Info(args) => info::run(args),
+        Command::Demo(args) => demo::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("flatcut: error: {err:#}");
+            ExitCode::from(1)
+        }
+    }
+}

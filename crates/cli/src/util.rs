@@ -1,0 +1,50 @@
+//! Helpers shared by the commands: unit parsing and atomic text output.
+
+use std::path::Path;
+
+use anyhow::Context;
+use flatcut_io::Units;
+
+/// Parses `--units` for clap, listing the accepted values on error.
+pub fn parse_units(s: &str) -> Result<Units, String> {
+    s.parse::<Units>().map_err(|e| e.to_string())
+}
+
+/// Writes `text` to `path` atomically (a temporary file beside it, then a rename), so a
+/// reader never sees half a report.
+pub fn write_text_atomic(path: &Path, text: &str) -> anyhow::Result<()> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .with_context(|| format!("{} is not a file path", path.display()))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    std::fs::write(&tmp, text).with_context(|| format!("cannot write {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| {
+        let _ = std::fs::remove_file(&tmp);
+        format!(
+            "cannot move {} into place as {}",
+            tmp.display(),
+            path.display()
+        )
+    })
+}
+
+/// Prints `text` to standard output. A closed pipe (`flatcut info x | head`) is not an error:
+/// the reader has what it wanted.
+pub fn emit(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(e).context("cannot write to standard output")
+        }
+        _ => Ok(()),
+    }
+}
