@@ -13,6 +13,7 @@ macro_rules! outln {
 }
 
 mod demo;
+mod flatten;
 mod info;
 mod util;
 
@@ -34,6 +35,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Run the main job on the embedded default: a generated dress form, written and analysed.
     Demo(demo::DemoArgs),
+    /// Flatten open pieces to a true-size 2D pattern (OBJ) and measure the distortion.
+    Flatten(flatten::FlattenArgs),
 }
 
 fn main() -> ExitCode {
@@ -45,6 +48,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Info(args) => info::run(args),
         Command::Demo(args) => demo::run(args),
+        Command::Flatten(args) => flatten::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
