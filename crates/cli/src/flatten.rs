@@ -107,6 +107,7 @@ struct Metrics<'a> {
     pins: Vec<[u32; 2]>,
     boundary_loops: &'a [flatcut_lscm::LoopLength],
     refine: &'a [flatcut_lscm::RefineReport],
+    warnings: Vec<String>,
 }
 
 /// Runs `flatcut flatten`.
@@ -152,6 +153,15 @@ pub fn run(args: &FlattenArgs) -> anyhow::Result<()> {
     flatcut_io::write_mesh(&args.output, &flat, &WriteOptions::default())?;
 
     let d: DistortionReport = distortion(mesh, &topo, uv);
+    let mut warnings = loaded.source.warnings.clone();
+    if d.flipped_faces > 0 {
+        warnings.push(format!(
+            "{} faces are flipped (the pattern folds over itself): a piece that is not a \
+             topological disk (a tube, a curved piece with several boundary loops) has no \
+             fold-free flattening; cut it into disks first",
+            d.flipped_faces
+        ));
+    }
     let metrics = Metrics {
         input,
         output: args.output.display().to_string(),
@@ -174,6 +184,7 @@ pub fn run(args: &FlattenArgs) -> anyhow::Result<()> {
             .collect(),
         boundary_loops: &d.boundary_loops,
         refine: &out.refine,
+        warnings,
     };
     let json = serde_json::to_string_pretty(&metrics)?;
     if let Some(path) = &args.metrics {
@@ -209,7 +220,7 @@ pub fn run(args: &FlattenArgs) -> anyhow::Result<()> {
             l.length_2d_mm
         );
     }
-    for w in &loaded.source.warnings {
+    for w in &metrics.warnings {
         outln!(o, "warning: {w}");
     }
     crate::util::emit(&o)

@@ -245,7 +245,8 @@ pub fn conformal_energy(piece: &Piece, uv: &[[f64; 2]]) -> f64 {
     for f in &piece.local_faces {
         let p = f.map(|v| piece.positions[v as usize]);
         let (area, r1, r2) = conformal_rows(local_frame(p[0], p[1], p[2]));
-        let x: Vec<f64> = f.iter().flat_map(|&v| uv[v as usize]).collect();
+        let [a, b, c] = f.map(|v| uv[v as usize]);
+        let x = [a[0], a[1], b[0], b[1], c[0], c[1]];
         // Q_T = ½ A (r₁ r₁ᵀ + r₂ r₂ᵀ), so xᵀ Q_T x = Σ_ij Q_ij x_i x_j.
         for i in 0..6 {
             for j in 0..6 {
