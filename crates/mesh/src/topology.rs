@@ -404,6 +404,30 @@ impl Topology {
         self.component_count = count as usize;
     }
 
+    /// Heap bytes held (from the capacities of its arrays), for memory budgets.
+    pub fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        let loops: usize = self
+            .boundary_loops
+            .iter()
+            .chain(&self.open_boundary_chains)
+            .map(|l| l.capacity() * 4)
+            .sum();
+        self.faces.capacity() * size_of::<[u32; 3]>()
+            + (self.twin.capacity() + self.halfedge_edge.capacity()) * 4
+            + self.edges.capacity() * size_of::<[u32; 2]>()
+            + (self.edge_face_count.capacity() + self.inconsistent_edges.capacity()) * 4
+            + (self.vertex_out_offsets.capacity() + self.vertex_out.capacity()) * 4
+            + self.referenced.capacity()
+            + self.boundary_vertex.capacity()
+            + self.non_manifold_vertex.capacity()
+            + (self.boundary_loops.capacity() + self.open_boundary_chains.capacity())
+                * size_of::<Vec<VertexId>>()
+            + loops
+            + (self.ring_offsets.capacity() + self.ring.capacity()) * 4
+            + (self.face_component.capacity() + self.vertex_component.capacity()) * 4
+    }
+
     /// The halfedge after `h` in its face.
     #[inline]
     pub fn next(h: u32) -> u32 {

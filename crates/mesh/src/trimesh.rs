@@ -192,6 +192,19 @@ impl TriMesh {
             .map_or(0.0, |(lo, hi)| crate::vec3::norm(crate::vec3::sub(hi, lo)))
     }
 
+    /// Heap bytes held by the positions, faces, attributes and labels (from capacities).
+    pub fn heap_bytes(&self) -> usize {
+        let a = &self.attributes;
+        self.positions.capacity() * 24
+            + self.faces.capacity() * 12
+            + a.colors.as_ref().map_or(0, |c| c.capacity() * 16)
+            + a.scalar.as_ref().map_or(0, |c| c.capacity() * 8)
+            + a.texcoords.as_ref().map_or(0, |c| c.capacity() * 16)
+            + self.face_labels.as_ref().map_or(0, |l| {
+                l.labels.capacity() * 4 + l.names.iter().map(|n| n.capacity() + 24).sum::<usize>()
+            })
+    }
+
     /// Multiplies every position by `factor` (unit conversion).
     pub fn scale(&mut self, factor: f64) {
         for p in &mut self.positions {
