@@ -16,6 +16,9 @@ use crate::{IoError, Parsed};
 /// Node instances visited at most (a node may be referenced by several parents, which can
 /// blow up exponentially in a malicious file).
 const MAX_NODE_INSTANCES: usize = 1_000_000;
+/// Vertices produced at most (1.2 GB of positions): instancing a mesh through many nodes
+/// multiplies it, and a tiny file must not be able to ask for unbounded memory.
+const MAX_OUTPUT_VERTICES: usize = 50_000_000;
 
 pub(crate) fn read_glb(
     bytes: &[u8],
@@ -515,8 +518,11 @@ fn extract(doc: &gltf::Document, buffers: &[Vec<u8>], path: &Path) -> Result<Par
             }
             let n = pv.count;
             let base = mesh.positions.len();
-            if base + n > u32::MAX as usize {
-                return Err(gerr("more vertices than a u32 index can address".into()));
+            if base.saturating_add(n) > MAX_OUTPUT_VERTICES {
+                return Err(gerr(format!(
+                    "the scene would expand to more than {MAX_OUTPUT_VERTICES} vertices (through node instancing); \
+                     flatcut refuses to allocate that much"
+                )));
             }
             vertices_read += n;
             mesh.positions.reserve(n);
@@ -592,6 +598,12 @@ fn extract(doc: &gltf::Document, buffers: &[Vec<u8>], path: &Path) -> Result<Par
                     None
                 }
             };
+            if mesh.faces.len().saturating_add(corner_count) > 2 * MAX_OUTPUT_VERTICES {
+                return Err(gerr(format!(
+                    "the scene would expand to more than {} triangles (through node instancing); flatcut refuses to allocate that much",
+                    2 * MAX_OUTPUT_VERTICES
+                )));
+            }
             let corner = |k: usize| -> Result<u32, IoError> {
                 let i = match &idx_view {
                     Some(v) => v.index(k),

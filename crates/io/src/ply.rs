@@ -505,6 +505,10 @@ fn read_ascii(bytes: &[u8], h: &Header, path: &Path, sink: &mut Sink) -> Result<
         } else if is_face {
             sink.faces.reserve(capped(el.count, body.len(), 8));
         }
+        if el.props.is_empty() {
+            // Records without properties take no bytes; do not loop over a huge count.
+            continue;
+        }
         for rec in 0..el.count {
             let mut xyz = [0.0; 3];
             let mut rgba = [0.0; 4];
@@ -700,6 +704,9 @@ fn read_binary<const BE: bool>(
             needed: 1,
             available: d.len().saturating_sub(at) as u64,
         };
+        if el.props.is_empty() {
+            continue;
+        }
         for rec in 0..el.count {
             let rec_start = pos;
             let mut xyz = [0.0; 3];
