@@ -324,9 +324,18 @@ pub(crate) fn write(w: &mut dyn Write, mesh: &TriMesh) -> io::Result<()> {
                     .names
                     .get(id as usize)
                     .map_or(DEFAULT_GROUP, String::as_str);
+                // A newline would end the statement and '#' would start a comment.
                 let name: String = name
                     .chars()
-                    .map(|c| if c.is_control() { ' ' } else { c })
+                    .map(|c| {
+                        if c.is_control() {
+                            ' '
+                        } else if c == '#' {
+                            '_'
+                        } else {
+                            c
+                        }
+                    })
                     .collect();
                 writeln!(w, "g {}", name.trim())?;
                 last = Some(id);

@@ -697,13 +697,14 @@ fn read_binary<const BE: bool>(
         } else if is_face {
             sink.faces.reserve(el.count as usize);
         }
-        let truncated = |rec: u64, at: usize, what: &str| IoError::Truncated {
+        let truncated_n = |rec: u64, at: usize, what: &str, needed: u64| IoError::Truncated {
             path: path.to_path_buf(),
             what: format!("{} {rec} ({what})", el.name),
             offset: at as u64,
-            needed: 1,
+            needed,
             available: d.len().saturating_sub(at) as u64,
         };
+        let truncated = |rec: u64, at: usize, what: &str| truncated_n(rec, at, what, 1);
         if el.props.is_empty() {
             continue;
         }
@@ -742,7 +743,13 @@ fn read_binary<const BE: bool>(
                         pos += ct.size();
                         let end = pos.saturating_add(n.saturating_mul(it.size()));
                         if end > d.len() {
-                            return Err(truncated(rec, pos, &p.name));
+                            let what = format!("{n} items of list '{}'", p.name);
+                            return Err(truncated_n(
+                                rec,
+                                pos,
+                                &what,
+                                (n as u64).saturating_mul(it.size() as u64),
+                            ));
                         }
                         if p.role == Role::Indices {
                             sink.corners.clear();
@@ -792,8 +799,14 @@ pub(crate) fn write(w: &mut dyn Write, mesh: &TriMesh) -> io::Result<()> {
             "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n",
         );
     }
+    // `int` indices as most tools expect; `uint` only when a signed index could not hold them.
+    let index_type = if mesh.positions.len() > i32::MAX as usize {
+        "uint"
+    } else {
+        "int"
+    };
     header.push_str(&format!(
-        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        "element face {}\nproperty list uchar {index_type} vertex_indices\nend_header\n",
         mesh.faces.len()
     ));
     w.write_all(header.as_bytes())?;
@@ -819,7 +832,7 @@ pub(crate) fn write(w: &mut dyn Write, mesh: &TriMesh) -> io::Result<()> {
     for f in &mesh.faces {
         buf.push(3);
         for &i in f {
-            buf.extend_from_slice(&(i as i32).to_le_bytes());
+            buf.extend_from_slice(&i.to_le_bytes()); // same bytes as i32 below 2³¹
         }
         if buf.len() > 60_000 {
             w.write_all(&buf)?;

@@ -41,6 +41,9 @@ enum Mutation {
     Truncate(usize),
     Insert(usize, Vec<u8>),
     Delete(usize, usize),
+    /// Replaces a digit by another digit: keeps text formats parseable while changing
+    /// counts, indices and offsets (reaches deeper than random bytes in JSON and headers).
+    Digit(usize, u8),
 }
 
 fn mutation() -> impl Strategy<Value = Mutation> {
@@ -49,6 +52,7 @@ fn mutation() -> impl Strategy<Value = Mutation> {
         1 => any::<usize>().prop_map(Mutation::Truncate),
         2 => (any::<usize>(), prop::collection::vec(any::<u8>(), 1..8)).prop_map(|(i, v)| Mutation::Insert(i, v)),
         1 => (any::<usize>(), 1usize..16).prop_map(|(i, n)| Mutation::Delete(i, n)),
+        4 => (any::<usize>(), any::<u8>()).prop_map(|(i, d)| Mutation::Digit(i, d)),
     ]
 }
 
@@ -65,6 +69,14 @@ fn apply(mut data: Vec<u8>, muts: &[Mutation]) -> Vec<u8> {
             Mutation::Insert(i, v) => {
                 let at = i % (data.len() + 1);
                 data.splice(at..at, v.iter().copied());
+            }
+            Mutation::Digit(i, d) => {
+                let digits: Vec<usize> = (0..data.len())
+                    .filter(|&k| data[k].is_ascii_digit())
+                    .collect();
+                if !digits.is_empty() {
+                    data[digits[i % digits.len()]] = b'0' + d % 10;
+                }
             }
             Mutation::Delete(i, n) => {
                 let at = i % len;
