@@ -1,1 +1,30 @@
+//! Least-norm flattenable mesh processing (Wang, "A Least-norm Approach to Flattenable Mesh
+//! Surface Processing"): move the interior vertices of a piece as little as possible until
+//! every interior vertex has summed angle θ = 2π, so that the piece flattens without
+//! stretch.
+//!
+//! Entry point: [`process`]. Two modes: [`Mode::Paper`] (the paper as printed) and
+//! [`Mode::Robust`] (the default: damped steps with a merit test, fold guards, scale-free
+//! thresholds, polish to 1e-9 rad). Every connected component is processed on its own, in
+//! parallel, with results independent of the thread count. See
+//! docs/algorithms/flattenable.md for equations, decisions and measurements.
 
+// Sparse kernels walk CSR ranges and index several parallel arrays at once; the index
+// loops say that more plainly than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+pub mod angle_gradient;
+mod error;
+pub mod laplacian;
+pub mod least_norm;
+mod options;
+mod paper;
+mod piece;
+mod process;
+mod report;
+mod robust;
+
+pub use error::FlattenableError;
+pub use options::{Laplacian, Mode, ProcessOptions, Target, Update};
+pub use process::{Processed, process};
+pub use report::{PieceReport, ProcessReport};

@@ -1,0 +1,82 @@
+//! The one error type of the crate.
+
+use flatcut_mesh::{FaceId, MeshError, VertexId};
+
+use crate::Processed;
+
+/// What can go wrong in [`crate::process`]. Piece numbers are connected components in
+/// order of first appearance; vertex and face ids refer to the input mesh.
+#[derive(Debug, thiserror::Error)]
+pub enum FlattenableError {
+    /// The mesh itself is invalid (index out of range, NaN or infinite coordinate, …).
+    #[error("invalid mesh: {0}")]
+    Mesh(#[from] MeshError),
+    /// A piece has no boundary: its vertices cannot all reach 2π with nothing fixed
+    /// (Gauss–Bonnet), and there is nothing to hold it in place.
+    #[error(
+        "piece {piece} is closed (no boundary loop): cut it open into disk-like pieces before processing"
+    )]
+    ClosedPiece { piece: usize },
+    /// An edge has more than two faces.
+    #[error(
+        "piece {piece}: the edge {a}–{b} has more than two faces (non-manifold); clean the mesh first"
+    )]
+    NonManifoldEdge { piece: usize, a: u32, b: u32 },
+    /// A vertex joins several fans of faces.
+    #[error(
+        "piece {piece}: {vertex} is non-manifold (its faces form several fans); clean the mesh first"
+    )]
+    NonManifoldVertex { piece: usize, vertex: VertexId },
+    /// Two faces traverse an edge in the same direction.
+    #[error(
+        "piece {piece}: the faces at edge {a}–{b} are inconsistently oriented; orient the mesh first"
+    )]
+    InconsistentOrientation { piece: usize, a: u32, b: u32 },
+    /// A face has zero area or a repeated vertex.
+    #[error("piece {piece}: {face} is degenerate (zero area or repeated vertex); remove it first")]
+    DegenerateFace { piece: usize, face: FaceId },
+    /// An interior vertex with fewer than three neighbours.
+    #[error("piece {piece}: interior {vertex} has valence {valence} < 3; clean the mesh first")]
+    LowValence {
+        piece: usize,
+        vertex: VertexId,
+        valence: usize,
+    },
+    /// An option is out of range.
+    #[error("invalid option {name}: {reason}")]
+    InvalidOption { name: &'static str, reason: String },
+    /// The sparse normal matrix could not be factorised (a rank-deficient Jacobian).
+    #[error(
+        "piece {piece}: iteration {iteration}: the normal matrix A Aᵀ is not positive definite ({detail}); the paper's undamped step needs independent constraints — use the robust mode"
+    )]
+    Singular {
+        piece: usize,
+        iteration: usize,
+        detail: String,
+    },
+    /// Paper mode produced folded faces or non-finite positions (the paper's direct update
+    /// diverges on some inputs, its Fig. 3a).
+    #[error(
+        "piece {piece}: paper mode diverged at iteration {iteration} (θ_err {theta_err:.3e} rad, {folded_faces} folded faces); try the least-square update or the robust mode"
+    )]
+    Diverged {
+        piece: usize,
+        iteration: usize,
+        theta_err: f64,
+        folded_faces: usize,
+    },
+    /// Robust mode could not reach the tolerance; the best unfolded state is in `partial`.
+    #[error(
+        "piece {piece} did not converge: best θ_err {best_theta_err:.3e} rad (tolerance {tolerance:.1e}) after {iterations} iterations: {reason}"
+    )]
+    NotConverged {
+        piece: usize,
+        best_theta_err: f64,
+        tolerance: f64,
+        iterations: usize,
+        reason: String,
+        /// The whole result with every piece at its best unfolded state (the
+        /// non-converged pieces marked in the report).
+        partial: Box<Processed>,
+    },
+}

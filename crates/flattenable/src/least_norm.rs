@@ -1,0 +1,465 @@
+//! The least-norm step of the paper (Eq. 5–8 and, weighted, Eq. 14–16):
+//!
+//! A d = b with A the n_int × 3n_int Jacobian of θ at the interior vertices (boundary
+//! columns dropped: boundary vertices are constants) and b = 2π − θ. The weighted
+//! least-norm solution is d = G Aᵀ x with (A G Aᵀ + μ I) x = b, where G is block-diagonal
+//! with one 3×3 block per interior vertex: G_c = (1 / w_c²) · (n nᵀ + t (I − n nᵀ)).
+//! t = 1 gives the paper's W² = diag(1/w²) (Eq. 14–16); t < 1 penalises tangential motion
+//! (robust mode's option for negatively curved pieces); μ = 0 is the paper's step, μ > 0
+//! the Levenberg–Marquardt damped step of robust mode.
+//!
+//! [`Layout`] is built once per piece: the CSR pattern of A (row p: p itself, then its
+//! interior one-ring), the lower-triangular CSC pattern of A G Aᵀ (interior vertices
+//! within two rings), the list of products that fill it, and the sparse symbolic Cholesky
+//! factorisation (AMD ordering), reused for every numeric factorisation of the piece. The
+//! same pattern holds Lᵀ L + D of the least-square update (see `laplacian.rs`), so one
+//! symbolic factorisation serves both systems.
+//!
+//! All factorisations run sequentially ([`Par::Seq`]) so that a result does not depend on
+//! the thread count; parallelism is across pieces.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+use flatcut_mesh::{INVALID, Topology, VertexId};
+
+use crate::angle_gradient::corner_angle_gradient;
+
+/// Per-piece sparse structure of A and A G Aᵀ with its symbolic factorisation.
+pub struct Layout {
+    /// Local vertex id of each interior vertex (row / column block order).
+    pub interior: Vec<u32>,
+    /// Interior index of each local vertex, `INVALID` for boundary vertices.
+    pub index_of: Vec<u32>,
+    /// CSR of A by interior row: entries `row_ptr[i]..row_ptr[i+1]`, the first being `i`.
+    pub row_ptr: Vec<usize>,
+    /// Interior index of each entry's column vertex.
+    pub col: Vec<u32>,
+    /// For every (interior vertex, outgoing halfedge): the A entry of p, a, b or `INVALID`
+    /// (boundary vertex). Aligned with `corner_halfedge`.
+    corner_entries: Vec<[u32; 3]>,
+    corner_halfedge: Vec<u32>,
+    /// Start of each interior vertex's corners in `corner_entries`.
+    corner_ptr: Vec<usize>,
+    /// Lower CSC pattern of the normal matrix.
+    m_col_ptr: Vec<u32>,
+    m_row_idx: Vec<u32>,
+    diag_slot: Vec<u32>,
+    /// (slot, entry i, entry j): the products filling the normal matrix, grouped by column
+    /// vertex c (`contrib_ptr`), both entries in column c.
+    contrib: Vec<[u32; 3]>,
+    contrib_ptr: Vec<usize>,
+    symbolic: SymbolicCholesky<u32>,
+}
+
+/// The 3×3 metric blocks G_c = s_c (n nᵀ + t (I − n nᵀ)).
+pub struct Metric<'a> {
+    /// s_c = 1 / w_c², per interior vertex.
+    pub scale: &'a [f64],
+    /// Unit normals per interior vertex, used when `tangential < 1`.
+    pub normals: Option<&'a [[f64; 3]]>,
+    /// t in (0, 1]: 1 is isotropic (the paper).
+    pub tangential: f64,
+}
+
+impl Metric<'_> {
+    #[inline]
+    fn bilinear(&self, c: usize, gi: [f64; 3], gj: [f64; 3]) -> f64 {
+        let s = self.scale[c];
+        let dij = gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2];
+        match self.normals {
+            Some(n) if self.tangential < 1.0 => {
+                let n = n[c];
+                let ni = n[0] * gi[0] + n[1] * gi[1] + n[2] * gi[2];
+                let nj = n[0] * gj[0] + n[1] * gj[1] + n[2] * gj[2];
+                s * (self.tangential * dij + (1.0 - self.tangential) * ni * nj)
+            }
+            _ => s * dij,
+        }
+    }
+
+    #[inline]
+    fn apply(&self, c: usize, g: [f64; 3]) -> [f64; 3] {
+        let s = self.scale[c];
+        match self.normals {
+            Some(n) if self.tangential < 1.0 => {
+                let n = n[c];
+                let ng = n[0] * g[0] + n[1] * g[1] + n[2] * g[2];
+                let t = self.tangential;
+                [
+                    s * (t * g[0] + (1.0 - t) * ng * n[0]),
+                    s * (t * g[1] + (1.0 - t) * ng * n[1]),
+                    s * (t * g[2] + (1.0 - t) * ng * n[2]),
+                ]
+            }
+            _ => [s * g[0], s * g[1], s * g[2]],
+        }
+    }
+}
+
+/// A numeric Cholesky factor of one value set on the layout's pattern.
+pub struct Factor {
+    values: Vec<f64>,
+}
+
+/// Why a numeric factorisation failed.
+#[derive(Debug)]
+pub enum FactorError {
+    /// The matrix is not (numerically) positive definite.
+    NotPositiveDefinite,
+    /// Out of memory or another faer failure.
+    Other(String),
+}
+
+impl Layout {
+    /// Builds the pattern for a piece. `topo` must be the piece's topology with every
+    /// interior vertex manifold (checked by the caller).
+    pub fn build(topo: &Topology, faces: &[[u32; 3]]) -> Result<Self, FactorError> {
+        let nv = topo.vertex_count();
+        let mut index_of = vec![INVALID; nv];
+        let mut interior = Vec::new();
+        for v in 0..nv as u32 {
+            if topo.is_interior_vertex(VertexId(v)) {
+                index_of[v as usize] = interior.len() as u32;
+                interior.push(v);
+            }
+        }
+        let n = interior.len();
+        let mut row_ptr = Vec::with_capacity(n + 1);
+        let mut col = Vec::new();
+        let mut corner_entries = Vec::new();
+        let mut corner_halfedge = Vec::new();
+        let mut corner_ptr = Vec::with_capacity(n + 1);
+        row_ptr.push(0);
+        corner_ptr.push(0);
+        for (i, &p) in interior.iter().enumerate() {
+            let start = col.len();
+            col.push(i as u32);
+            for &q in topo.one_ring(VertexId(p)).unwrap_or(&[]) {
+                let qi = index_of[q as usize];
+                if qi != INVALID {
+                    col.push(qi);
+                }
+            }
+            let entry = |v: u32, col: &[u32]| -> u32 {
+                let vi = index_of[v as usize];
+                if vi == INVALID {
+                    return INVALID;
+                }
+                col[start..]
+                    .iter()
+                    .position(|&c| c == vi)
+                    .map_or(INVALID, |k| (start + k) as u32)
+            };
+            for &h in topo.outgoing(VertexId(p)) {
+                let f = faces[Topology::face(h).idx()];
+                let k = (h % 3) as usize;
+                corner_entries.push([
+                    start as u32,
+                    entry(f[(k + 1) % 3], &col),
+                    entry(f[(k + 2) % 3], &col),
+                ]);
+                corner_halfedge.push(h);
+            }
+            row_ptr.push(col.len());
+            corner_ptr.push(corner_entries.len());
+        }
+        // Column lists of A: entries per column vertex.
+        let mut ccount = vec![0usize; n + 1];
+        for &c in &col {
+            ccount[c as usize + 1] += 1;
+        }
+        for c in 0..n {
+            ccount[c + 1] += ccount[c];
+        }
+        let contrib_ptr_cols = ccount.clone();
+        let mut fill = ccount.clone();
+        let mut by_col = vec![(0u32, 0u32); col.len()];
+        for i in 0..n {
+            for e in row_ptr[i]..row_ptr[i + 1] {
+                let c = col[e] as usize;
+                by_col[fill[c]] = (i as u32, e as u32);
+                fill[c] += 1;
+            }
+        }
+        // Lower pattern: pairs (row ≥ col) of rows sharing a column.
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        for c in 0..n {
+            let list = &by_col[contrib_ptr_cols[c]..contrib_ptr_cols[c + 1]];
+            for &(i, _) in list {
+                for &(j, _) in list {
+                    if i >= j {
+                        pairs.push((j, i));
+                    }
+                }
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        let mut m_col_ptr = vec![0u32; n + 1];
+        let mut m_row_idx = Vec::with_capacity(pairs.len());
+        for &(j, i) in &pairs {
+            m_col_ptr[j as usize + 1] += 1;
+            m_row_idx.push(i);
+        }
+        for j in 0..n {
+            m_col_ptr[j + 1] += m_col_ptr[j];
+        }
+        let slot = |i: u32, j: u32| -> u32 {
+            let (s, e) = (
+                m_col_ptr[j as usize] as usize,
+                m_col_ptr[j as usize + 1] as usize,
+            );
+            // Present by construction.
+            s as u32 + m_row_idx[s..e].binary_search(&i).unwrap_or(0) as u32
+        };
+        let diag_slot: Vec<u32> = (0..n as u32).map(|j| slot(j, j)).collect();
+        let mut contrib = Vec::new();
+        let mut contrib_ptr = Vec::with_capacity(n + 1);
+        contrib_ptr.push(0);
+        for c in 0..n {
+            let list = &by_col[contrib_ptr_cols[c]..contrib_ptr_cols[c + 1]];
+            for &(i, ei) in list {
+                for &(j, ej) in list {
+                    if i >= j {
+                        contrib.push([slot(i, j), ei, ej]);
+                    }
+                }
+            }
+            contrib_ptr.push(contrib.len());
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &m_col_ptr, None, &m_row_idx);
+        let symbolic =
+            factorize_symbolic_cholesky(sym, Side::Lower, Default::default(), Default::default())
+                .map_err(|e| FactorError::Other(format!("{e:?}")))?;
+        Ok(Self {
+            interior,
+            index_of,
+            row_ptr,
+            col,
+            corner_entries,
+            corner_halfedge,
+            corner_ptr,
+            m_col_ptr,
+            m_row_idx,
+            diag_slot,
+            contrib,
+            contrib_ptr,
+            symbolic,
+        })
+    }
+
+    /// Number of interior vertices (rows of A).
+    pub fn n(&self) -> usize {
+        self.interior.len()
+    }
+
+    /// Number of stored entries of A (each a 3-vector).
+    pub fn entries(&self) -> usize {
+        self.col.len()
+    }
+
+    /// Number of stored entries of the lower normal matrix.
+    pub fn normal_nnz(&self) -> usize {
+        self.m_row_idx.len()
+    }
+
+    /// θ at every interior vertex and the entries of A (∂θ_i / ∂v_col).
+    pub fn evaluate(
+        &self,
+        positions: &[[f64; 3]],
+        faces: &[[u32; 3]],
+        theta: &mut [f64],
+        grad: &mut [[f64; 3]],
+    ) {
+        grad.iter_mut().for_each(|g| *g = [0.0; 3]);
+        for (i, &p) in self.interior.iter().enumerate() {
+            let mut t = 0.0;
+            for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
+                let h = self.corner_halfedge[k];
+                let f = faces[Topology::face(h).idx()];
+                let kk = (h % 3) as usize;
+                let (alpha, g) = corner_angle_gradient(
+                    positions[p as usize],
+                    positions[f[(kk + 1) % 3] as usize],
+                    positions[f[(kk + 2) % 3] as usize],
+                );
+                t += alpha;
+                for (slot, gk) in self.corner_entries[k].iter().zip(g) {
+                    if *slot != INVALID {
+                        let e = &mut grad[*slot as usize];
+                        e[0] += gk[0];
+                        e[1] += gk[1];
+                        e[2] += gk[2];
+                    }
+                }
+            }
+            theta[i] = t;
+        }
+    }
+
+    /// θ at every interior vertex only (for trial points).
+    pub fn theta(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], theta: &mut [f64]) {
+        for (i, &p) in self.interior.iter().enumerate() {
+            let mut t = 0.0;
+            for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
+                let h = self.corner_halfedge[k];
+                let f = faces[Topology::face(h).idx()];
+                let kk = (h % 3) as usize;
+                t += flatcut_mesh::vec3::angle(
+                    flatcut_mesh::vec3::sub(
+                        positions[f[(kk + 1) % 3] as usize],
+                        positions[p as usize],
+                    ),
+                    flatcut_mesh::vec3::sub(
+                        positions[f[(kk + 2) % 3] as usize],
+                        positions[p as usize],
+                    ),
+                );
+            }
+            theta[i] = t;
+        }
+    }
+
+    /// Lower values of A G Aᵀ (without shift) into `values` (length [`Layout::normal_nnz`]).
+    pub fn normal_matrix(&self, grad: &[[f64; 3]], metric: &Metric<'_>, values: &mut [f64]) {
+        values.iter_mut().for_each(|v| *v = 0.0);
+        for c in 0..self.n() {
+            for &[s, ei, ej] in &self.contrib[self.contrib_ptr[c]..self.contrib_ptr[c + 1]] {
+                values[s as usize] += metric.bilinear(c, grad[ei as usize], grad[ej as usize]);
+            }
+        }
+    }
+
+    /// Lower values of Lᵀ L into `values`, where `lt[e]` holds L[col(e)][row(e)] (Lᵀ in the
+    /// layout of A).
+    pub fn gram_of_transposed(&self, lt: &[f64], values: &mut [f64]) {
+        values.iter_mut().for_each(|v| *v = 0.0);
+        for &[s, ei, ej] in &self.contrib {
+            values[s as usize] += lt[ei as usize] * lt[ej as usize];
+        }
+    }
+
+    /// Mean of the diagonal of a value set (the scale damping is measured against).
+    pub fn mean_diagonal(&self, values: &[f64]) -> f64 {
+        if self.n() == 0 {
+            return 0.0;
+        }
+        self.diag_slot
+            .iter()
+            .map(|&s| values[s as usize])
+            .sum::<f64>()
+            / self.n() as f64
+    }
+
+    /// Numeric Cholesky of `values + shift · I` (or `+ diag(shift_diag)`), reusing the
+    /// symbolic factorisation.
+    pub fn factor(
+        &self,
+        values: &[f64],
+        shift: f64,
+        shift_diag: Option<&[f64]>,
+    ) -> Result<Factor, FactorError> {
+        let mut v = values.to_vec();
+        for (j, &s) in self.diag_slot.iter().enumerate() {
+            v[s as usize] += shift + shift_diag.map_or(0.0, |d| d[j]);
+        }
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(FactorError::NotPositiveDefinite);
+        }
+        let n = self.n();
+        let sym =
+            SymbolicSparseColMatRef::new_checked(n, n, &self.m_col_ptr, None, &self.m_row_idx);
+        let mat = SparseColMatRef::new(sym, &v);
+        let mut l = vec![0.0f64; self.symbolic.len_val()];
+        let par = Par::Seq;
+        let mut buf = MemBuffer::try_new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        )
+        .map_err(|e| FactorError::Other(format!("{e:?}")))?;
+        self.symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut l,
+                mat,
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut buf),
+                Default::default(),
+            )
+            .map_err(|_| FactorError::NotPositiveDefinite)?;
+        Ok(Factor { values: l })
+    }
+
+    /// Solves in place for `k` right-hand sides stored column-major in `rhs` (n × k).
+    pub fn solve(&self, factor: &Factor, rhs: &mut [f64], k: usize) {
+        let n = self.n();
+        let par = Par::Seq;
+        let mut buf = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par));
+        let mat = MatMut::from_column_major_slice_mut(rhs, n, k);
+        LltRef::<'_, u32, f64>::new(&self.symbolic, &factor.values).solve_in_place_with_conj(
+            Conj::No,
+            mat,
+            par,
+            MemStack::new(&mut buf),
+        );
+    }
+
+    /// d = G Aᵀ x, one 3-vector per interior vertex.
+    pub fn step_from_multipliers(
+        &self,
+        grad: &[[f64; 3]],
+        metric: &Metric<'_>,
+        x: &[f64],
+    ) -> Vec<[f64; 3]> {
+        let mut at = vec![[0.0; 3]; self.n()];
+        for (i, &xi) in x.iter().enumerate() {
+            for e in self.row_ptr[i]..self.row_ptr[i + 1] {
+                let c = self.col[e] as usize;
+                let g = grad[e];
+                at[c][0] += g[0] * xi;
+                at[c][1] += g[1] * xi;
+                at[c][2] += g[2] * xi;
+            }
+        }
+        at.iter()
+            .enumerate()
+            .map(|(c, &v)| metric.apply(c, v))
+            .collect()
+    }
+
+    /// A d, one value per interior vertex.
+    pub fn apply(&self, grad: &[[f64; 3]], d: &[[f64; 3]]) -> Vec<f64> {
+        (0..self.n())
+            .map(|i| {
+                (self.row_ptr[i]..self.row_ptr[i + 1])
+                    .map(|e| {
+                        let (g, v) = (grad[e], d[self.col[e] as usize]);
+                        g[0] * v[0] + g[1] * v[1] + g[2] * v[2]
+                    })
+                    .sum()
+            })
+            .collect()
+    }
+}
+
+/// One least-norm step: d = G Aᵀ (A G Aᵀ + μ I)⁻¹ b. `normal` holds the lower values of
+/// A G Aᵀ for this `grad` and `metric`.
+pub fn least_norm_step(
+    layout: &Layout,
+    grad: &[[f64; 3]],
+    metric: &Metric<'_>,
+    normal: &[f64],
+    b: &[f64],
+    mu: f64,
+) -> Result<Vec<[f64; 3]>, FactorError> {
+    let factor = layout.factor(normal, mu, None)?;
+    let mut x = b.to_vec();
+    layout.solve(&factor, &mut x, 1);
+    if x.iter().any(|v| !v.is_finite()) {
+        return Err(FactorError::NotPositiveDefinite);
+    }
+    Ok(layout.step_from_multipliers(grad, metric, &x))
+}

@@ -1,0 +1,149 @@
+//! Options of [`crate::process`], read straight from the pipeline TOML (serde); every
+//! field has a documented default.
+
+use serde::{Deserialize, Serialize};
+
+/// Which algorithm runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mode {
+    /// The paper as printed: undamped least-norm steps, the chosen position update, the
+    /// hybrid switch and the terminal condition ‖d‖² < max(n_int·1e-8, 1e-5) or 50 steps.
+    Paper,
+    /// Levenberg–Marquardt-damped least-norm steps with a trust-region test on
+    /// ‖θ − 2π‖², fold guards, scale-free thresholds, polish to `tolerance_rad`.
+    #[default]
+    Robust,
+}
+
+/// How the positions follow the least-norm step d.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Update {
+    /// v ← v + d.
+    #[default]
+    Direct,
+    /// v ← argmin ‖L v − g‖² + ‖W⁻¹(v − (v + d))‖² (Eq. 9 / 17), switching to the direct
+    /// update by the hybrid rule.
+    LeastSquare,
+}
+
+/// The Laplacian of the least-square update.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Laplacian {
+    /// Eq. 11 with the normalised mixed area of Eq. 12.
+    #[default]
+    Cotan,
+    /// The umbrella operator v_p − mean of the one-ring.
+    Uniform,
+}
+
+/// What the least-square update asks L v to be.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Target {
+    /// 0, the paper (thin-plate smoothing; shrinks).
+    Zero,
+    /// L v⁰ of the input: keeps the input's detail, does not shrink.
+    #[default]
+    Detail,
+}
+
+/// Options of [`crate::process`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ProcessOptions {
+    /// Algorithm. Default `Robust`.
+    pub mode: Mode,
+    /// Position update. Default `Direct`.
+    pub update: Update,
+    /// Laplacian of the least-square update. Default `Cotan`.
+    pub laplacian: Laplacian,
+    /// Target of the least-square update. Default `Detail` (`Zero` is the paper's).
+    pub target: Target,
+    /// Iteration limit per piece (accepted steps). Default 50 in paper mode (the paper's
+    /// terminal condition) and 500 in robust mode when `None`.
+    pub max_iterations: Option<usize>,
+    /// Per-vertex weights w ≥ 0 (finite, > 0), one per vertex of the input mesh; a larger w
+    /// moves the vertex less (Eq. 14–17). Default `None` (all 1).
+    pub weights: Option<Vec<f64>>,
+    /// Weight of the interior vertices next to the boundary (soft G1 continuity across
+    /// seams, the paper's §4.2). Default 1 (off); the paper suggests 10.
+    pub boundary_ring_weight: f64,
+    /// Feature curves as lists of input vertex indices; their vertices get
+    /// `feature_weight`. Default none.
+    pub feature_curves: Vec<Vec<u32>>,
+    /// Weight of vertices on feature curves. Default 10 (the paper's value).
+    pub feature_weight: f64,
+    /// Robust mode stops successfully when θ_err = max |θ − 2π| ≤ this (radians).
+    /// Paper mode stops immediately if the input already satisfies it. Default 1e-9.
+    pub tolerance_rad: f64,
+    /// Paper mode: switch from the least-square to the direct update when θ_err < this
+    /// (radians). Default 1e-3 (the paper).
+    pub switch_theta_err: f64,
+    /// Paper mode: … or when θ_err decreased by less than this in one step after
+    /// `switch_after` steps. Default 0.01 (the paper).
+    pub switch_decrease: f64,
+    /// Paper mode: see `switch_decrease`. Default 20 (the paper).
+    pub switch_after: usize,
+    /// Paper mode: terminal condition ‖d‖² < max(n_int · this, `stop_d2_min`) (absolute,
+    /// squared model units, as printed). Default 1e-8. Set 0 to disable.
+    pub stop_d2_per_vertex: f64,
+    /// Paper mode: see `stop_d2_per_vertex`. Default 1e-5.
+    pub stop_d2_min: f64,
+    /// Robust mode: weight of tangential motion relative to normal motion in the metric of
+    /// the least-norm step: G = nnᵀ + (I − nnᵀ)/τ² (n the current vertex normal). 1 is
+    /// isotropic (the paper's metric); larger prefers motion along the normal, which keeps
+    /// triangles shaped and is what lets saddle-like pieces converge (measured in
+    /// docs/algorithms/flattenable.md). Default 10. Paper mode ignores it.
+    pub tangential_penalty: f64,
+    /// Smallest corner angle (degrees) a step may create: a corner that ends below it and
+    /// below its input angle rejects the step. Default 0.5.
+    pub min_angle_deg: f64,
+}
+
+impl Default for ProcessOptions {
+    fn default() -> Self {
+        Self {
+            mode: Mode::Robust,
+            update: Update::Direct,
+            laplacian: Laplacian::Cotan,
+            target: Target::Detail,
+            max_iterations: None,
+            weights: None,
+            boundary_ring_weight: 1.0,
+            feature_curves: Vec::new(),
+            feature_weight: 10.0,
+            tolerance_rad: 1e-9,
+            switch_theta_err: 1e-3,
+            switch_decrease: 0.01,
+            switch_after: 20,
+            stop_d2_per_vertex: 1e-8,
+            stop_d2_min: 1e-5,
+            tangential_penalty: 10.0,
+            min_angle_deg: 0.5,
+        }
+    }
+}
+
+impl ProcessOptions {
+    /// The paper's settings: `Mode::Paper`, the given update, uniform-or-cotan Laplacian
+    /// with the zero target, 50 iterations.
+    pub fn paper(update: Update) -> Self {
+        Self {
+            mode: Mode::Paper,
+            update,
+            target: Target::Zero,
+            ..Self::default()
+        }
+    }
+
+    /// The iteration limit actually used.
+    pub fn iteration_limit(&self) -> usize {
+        self.max_iterations.unwrap_or(match self.mode {
+            Mode::Paper => 50,
+            Mode::Robust => 500,
+        })
+    }
+}

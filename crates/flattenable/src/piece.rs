@@ -1,0 +1,185 @@
+//! One connected component prepared for processing: local arrays, topology and the
+//! least-norm layout built once, vertex weights, the fold guard, and the measures that go
+//! into its report.
+
+use std::f64::consts::TAU;
+
+use flatcut_mesh::geometry::{corner_angles, face_areas, face_normals};
+use flatcut_mesh::vec3::{cross, dot, sub};
+use flatcut_mesh::{Topology, TriMesh};
+
+use crate::least_norm::Layout;
+use crate::report::PieceReport;
+
+/// A piece ready for the iteration.
+pub struct Piece {
+    /// Component number.
+    pub index: usize,
+    /// Input vertex of each local vertex.
+    pub vertex_map: Vec<u32>,
+    /// Local faces.
+    pub faces: Vec<[u32; 3]>,
+    /// Local input positions.
+    pub pos0: Vec<[f64; 3]>,
+    /// Topology of the piece, built once.
+    pub topo: Topology,
+    /// Least-norm layout, built once.
+    pub layout: Layout,
+    /// w per interior vertex.
+    pub weights: Vec<f64>,
+    guard: Guard,
+}
+
+/// Rejects folded geometry: a face whose normal turned by more than 90° against the input,
+/// or a corner newly below the angle floor.
+struct Guard {
+    normals0: Vec<[f64; 3]>,
+    angles0: Vec<[f64; 3]>,
+    floor_rad: f64,
+}
+
+impl Piece {
+    /// Prepares a piece from its local mesh (validated by the caller). `weights_local`
+    /// gives w per local vertex.
+    pub fn new(
+        index: usize,
+        vertex_map: Vec<u32>,
+        local: &TriMesh,
+        topo: Topology,
+        weights_local: &[f64],
+        min_angle_deg: f64,
+    ) -> Result<Self, crate::least_norm::FactorError> {
+        let layout = Layout::build(&topo, &local.faces)?;
+        let weights = layout
+            .interior
+            .iter()
+            .map(|&p| weights_local[p as usize])
+            .collect();
+        let guard = Guard {
+            normals0: face_normals(&local.positions, &local.faces),
+            angles0: corner_angles(&local.positions, &local.faces),
+            floor_rad: min_angle_deg.to_radians(),
+        };
+        Ok(Self {
+            index,
+            vertex_map,
+            faces: local.faces.clone(),
+            pos0: local.positions.clone(),
+            topo,
+            layout,
+            weights,
+            guard,
+        })
+    }
+
+    /// Number of folded faces at `positions` (see [`PieceReport::folded_faces`]); non-finite
+    /// positions count every face.
+    pub fn folded_faces(&self, positions: &[[f64; 3]]) -> usize {
+        if positions.iter().flatten().any(|c| !c.is_finite()) {
+            return self.faces.len();
+        }
+        let floor = self.guard.floor_rad;
+        self.faces
+            .iter()
+            .enumerate()
+            .filter(|(f, face)| {
+                let (p0, p1, p2) = (
+                    positions[face[0] as usize],
+                    positions[face[1] as usize],
+                    positions[face[2] as usize],
+                );
+                let n = cross(sub(p1, p0), sub(p2, p0));
+                if dot(n, self.guard.normals0[*f]) <= 0.0 {
+                    return true;
+                }
+                let a = flatcut_mesh::geometry::triangle_angles(p0, p1, p2);
+                (0..3).any(|k| a[k] < floor && a[k] < self.guard.angles0[*f][k])
+            })
+            .count()
+    }
+
+    /// Positions with the interior vertices replaced.
+    pub fn with_interior(&self, base: &[[f64; 3]], interior: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let mut out = base.to_vec();
+        for (i, &p) in self.layout.interior.iter().enumerate() {
+            out[p as usize] = interior[i];
+        }
+        out
+    }
+
+    /// Interior positions of a full position array.
+    pub fn interior_of(&self, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        self.layout
+            .interior
+            .iter()
+            .map(|&p| positions[p as usize])
+            .collect()
+    }
+
+    /// θ_err = max |θ − 2π| and the squared residual ‖θ − 2π‖² from interior θ.
+    pub fn errors(theta: &[f64]) -> (f64, f64) {
+        theta.iter().fold((0.0f64, 0.0f64), |(m, s), &t| {
+            let r = t - TAU;
+            (m.max(r.abs()), s + r * r)
+        })
+    }
+
+    /// Fills the measured fields of a report for the final `positions`.
+    pub fn measure(&self, positions: &[[f64; 3]], report: &mut PieceReport) {
+        let mut theta = vec![0.0; self.layout.n()];
+        self.layout.theta(positions, &self.faces, &mut theta);
+        let (err, sq) = Self::errors(&theta);
+        let n = self.layout.n();
+        report.final_theta_err = err;
+        report.final_theta_rms = if n > 0 { (sq / n as f64).sqrt() } else { 0.0 };
+        let mut theta0 = vec![0.0; n];
+        self.layout.theta(&self.pos0, &self.faces, &mut theta0);
+        report.input_total_defect_rad = theta0.iter().map(|t| TAU - t).sum();
+        let (mut max_d, mut sum_d2) = (0.0f64, 0.0);
+        for &p in &self.layout.interior {
+            let d = flatcut_mesh::vec3::dist(positions[p as usize], self.pos0[p as usize]);
+            max_d = max_d.max(d);
+            sum_d2 += d * d;
+        }
+        report.max_displacement_mm = max_d;
+        report.rms_displacement_mm = if n > 0 {
+            (sum_d2 / n as f64).sqrt()
+        } else {
+            0.0
+        };
+        let a0: f64 = face_areas(&self.pos0, &self.faces).iter().sum();
+        let a1: f64 = face_areas(positions, &self.faces).iter().sum();
+        report.area_change_percent = if a0 > 0.0 {
+            100.0 * (a1 - a0) / a0
+        } else {
+            0.0
+        };
+        report.folded_faces = self.folded_faces(positions);
+        report.min_angle_deg = corner_angles(positions, &self.faces)
+            .iter()
+            .flatten()
+            .fold(f64::INFINITY, |m, &a| m.min(a))
+            .to_degrees();
+    }
+
+    /// Area-weighted unit vertex normals of the interior vertices at `positions`.
+    pub fn interior_normals(&self, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let mut acc = vec![[0.0; 3]; positions.len()];
+        for f in &self.faces {
+            let n = cross(
+                sub(positions[f[1] as usize], positions[f[0] as usize]),
+                sub(positions[f[2] as usize], positions[f[0] as usize]),
+            );
+            for &v in f {
+                for c in 0..3 {
+                    acc[v as usize][c] += n[c];
+                }
+            }
+        }
+        self.layout
+            .interior
+            .iter()
+            .map(|&p| flatcut_mesh::vec3::normalize(acc[p as usize]))
+            .collect()
+    }
+}

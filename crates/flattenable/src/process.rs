@@ -1,0 +1,362 @@
+//! [`process`]: split the mesh into connected components, check each, run the chosen mode
+//! on each in parallel, and put the results back together.
+
+use std::time::Instant;
+
+use flatcut_mesh::geometry::{face_areas, is_degenerate_face};
+use flatcut_mesh::{FaceId, Topology, TriMesh, VertexId};
+use rayon::prelude::*;
+
+use crate::piece::Piece;
+use crate::report::{PieceReport, ProcessReport};
+use crate::{FlattenableError, Mode, ProcessOptions, paper, robust};
+
+/// The result of [`process`]: the mesh with new positions (same connectivity, attributes
+/// and labels) and the report.
+#[derive(Clone)]
+pub struct Processed {
+    /// Same faces as the input; interior vertices moved, everything else bit-identical.
+    pub mesh: TriMesh,
+    /// What happened, per piece and overall.
+    pub report: ProcessReport,
+}
+
+impl std::fmt::Debug for Processed {
+    // A summary: the positions of a 100k-vertex mesh do not belong in an error message.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Processed")
+            .field("vertices", &self.mesh.vertex_count())
+            .field("faces", &self.mesh.face_count())
+            .field("converged", &self.report.converged)
+            .field("final_theta_err", &self.report.final_theta_err)
+            .field("iterations", &self.report.iterations)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Makes every piece of `mesh` flattenable (θ = 2π at every interior vertex), moving the
+/// interior vertices as little as possible; boundary vertices never move.
+///
+/// Preconditions checked here (errors name the element, in input ids): finite positions,
+/// indices in range, every piece open (a boundary loop), edge- and vertex-manifold,
+/// consistently oriented, no degenerate face, interior valence ≥ 3. Pieces with holes are
+/// fine (all loops fixed). A piece without interior vertex comes back unchanged, with a
+/// message in its report.
+///
+/// Errors: the checks above; paper mode's singular or diverged iterations
+/// ([`FlattenableError::Singular`], [`FlattenableError::Diverged`]); robust mode's
+/// [`FlattenableError::NotConverged`], which carries the whole result at the best unfolded
+/// state of every piece.
+pub fn process(mesh: &TriMesh, opts: &ProcessOptions) -> Result<Processed, FlattenableError> {
+    let start = Instant::now();
+    mesh.validate()?;
+    check_options(mesh, opts)?;
+    let topo = Topology::build(mesh)?;
+    let comps = topo.component_count();
+    check_topology(mesh, &topo)?;
+
+    // Faces and vertices of each component.
+    let mut comp_faces: Vec<Vec<u32>> = vec![Vec::new(); comps];
+    for (f, &c) in topo.face_components().iter().enumerate() {
+        comp_faces[c as usize].push(f as u32);
+    }
+    let weights = vertex_weights(mesh, &topo, opts);
+    let outcomes: Vec<Result<PieceOutcome, FlattenableError>> = comp_faces
+        .par_iter()
+        .enumerate()
+        .map(|(ci, faces)| run_piece(mesh, ci, faces, &weights, opts))
+        .collect();
+
+    let mut out = mesh.clone();
+    let mut pieces = Vec::with_capacity(comps);
+    for o in outcomes {
+        let (pos, map, rep) = o?;
+        for (local, &global) in map.iter().enumerate() {
+            out.positions[global as usize] = pos[local];
+        }
+        pieces.push(rep);
+    }
+    let report = summarise(mesh, &out, opts, pieces, start.elapsed().as_secs_f64());
+    let result = Processed { mesh: out, report };
+    if opts.mode == Mode::Robust
+        && let Some(p) = result.report.pieces.iter().find(|p| !p.converged)
+    {
+        return Err(FlattenableError::NotConverged {
+            piece: p.piece,
+            best_theta_err: p.final_theta_err,
+            tolerance: opts.tolerance_rad,
+            iterations: p.iterations,
+            reason: p.stop_reason.clone(),
+            partial: Box::new(result),
+        });
+    }
+    Ok(result)
+}
+
+fn check_options(mesh: &TriMesh, opts: &ProcessOptions) -> Result<(), FlattenableError> {
+    let bad = |name, reason: String| Err(FlattenableError::InvalidOption { name, reason });
+    if let Some(w) = &opts.weights {
+        if w.len() != mesh.vertex_count() {
+            return bad(
+                "weights",
+                format!("{} weights for {} vertices", w.len(), mesh.vertex_count()),
+            );
+        }
+        if let Some((i, v)) = w
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+        {
+            return bad(
+                "weights",
+                format!("vertex {i} has weight {v}; weights must be finite and > 0"),
+            );
+        }
+    }
+    for (name, v) in [
+        ("boundary_ring_weight", opts.boundary_ring_weight),
+        ("feature_weight", opts.feature_weight),
+        ("tolerance_rad", opts.tolerance_rad),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return bad(name, format!("{v} must be finite and > 0"));
+        }
+    }
+    if !(opts.tangential_penalty.is_finite() && opts.tangential_penalty >= 1.0) {
+        return bad(
+            "tangential_penalty",
+            format!("{} must be ≥ 1", opts.tangential_penalty),
+        );
+    }
+    if !(0.0..60.0).contains(&opts.min_angle_deg) {
+        return bad(
+            "min_angle_deg",
+            format!("{} must be in [0, 60)", opts.min_angle_deg),
+        );
+    }
+    for (c, curve) in opts.feature_curves.iter().enumerate() {
+        if let Some(v) = curve.iter().find(|&&v| v as usize >= mesh.vertex_count()) {
+            return bad(
+                "feature_curves",
+                format!("curve {c} names vertex {v}, which does not exist"),
+            );
+        }
+    }
+    Ok(())
+}
+
+fn check_topology(mesh: &TriMesh, topo: &Topology) -> Result<(), FlattenableError> {
+    let vc = topo.vertex_components();
+    if let Some([a, b]) = topo.non_manifold_edges().first().copied() {
+        return Err(FlattenableError::NonManifoldEdge {
+            piece: vc[a as usize] as usize,
+            a,
+            b,
+        });
+    }
+    if let Some(v) = topo.non_manifold_vertices().first().copied() {
+        return Err(FlattenableError::NonManifoldVertex {
+            piece: vc[v.idx()] as usize,
+            vertex: v,
+        });
+    }
+    if let Some([a, b]) = topo.inconsistent_edges().first().copied() {
+        return Err(FlattenableError::InconsistentOrientation {
+            piece: vc[a as usize] as usize,
+            a,
+            b,
+        });
+    }
+    let summaries = topo.component_summaries();
+    if let Some(c) = summaries.iter().position(|s| s.closed) {
+        return Err(FlattenableError::ClosedPiece { piece: c });
+    }
+    let diag = mesh.diagonal();
+    let fc = topo.face_components();
+    for (f, face) in mesh.faces.iter().enumerate() {
+        if is_degenerate_face(*face, mesh.triangle(FaceId(f as u32)), diag) {
+            return Err(FlattenableError::DegenerateFace {
+                piece: fc[f] as usize,
+                face: FaceId(f as u32),
+            });
+        }
+    }
+    for v in 0..mesh.vertex_count() as u32 {
+        let v = VertexId(v);
+        if topo.is_interior_vertex(v) {
+            let valence = topo.one_ring(v).map_or(0, <[u32]>::len);
+            if valence < 3 {
+                return Err(FlattenableError::LowValence {
+                    piece: vc[v.idx()] as usize,
+                    vertex: v,
+                    valence,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// w per input vertex: caller's weight × boundary-ring weight × feature weight.
+fn vertex_weights(mesh: &TriMesh, topo: &Topology, opts: &ProcessOptions) -> Vec<f64> {
+    let mut w = opts
+        .weights
+        .clone()
+        .unwrap_or_else(|| vec![1.0; mesh.vertex_count()]);
+    if opts.boundary_ring_weight != 1.0 {
+        for (v, wv) in w.iter_mut().enumerate() {
+            let v = VertexId(v as u32);
+            if topo.is_interior_vertex(v)
+                && topo
+                    .one_ring(v)
+                    .is_some_and(|r| r.iter().any(|&q| topo.is_boundary_vertex(VertexId(q))))
+            {
+                *wv *= opts.boundary_ring_weight;
+            }
+        }
+    }
+    let mut on_feature = vec![false; mesh.vertex_count()];
+    for curve in &opts.feature_curves {
+        for &v in curve {
+            on_feature[v as usize] = true;
+        }
+    }
+    for (wv, f) in w.iter_mut().zip(on_feature) {
+        if f {
+            *wv *= opts.feature_weight;
+        }
+    }
+    w
+}
+
+type PieceOutcome = (Vec<[f64; 3]>, Vec<u32>, PieceReport);
+
+fn run_piece(
+    mesh: &TriMesh,
+    index: usize,
+    faces: &[u32],
+    weights: &[f64],
+    opts: &ProcessOptions,
+) -> Result<PieceOutcome, FlattenableError> {
+    let start = Instant::now();
+    // Local numbering in order of first use, so the piece is the same whatever the rest.
+    let mut local_of = std::collections::HashMap::new();
+    let mut map = Vec::new();
+    let mut local_faces = Vec::with_capacity(faces.len());
+    for &f in faces {
+        let face = mesh.faces[f as usize];
+        let mut lf = [0u32; 3];
+        for k in 0..3 {
+            lf[k] = *local_of.entry(face[k]).or_insert_with(|| {
+                map.push(face[k]);
+                (map.len() - 1) as u32
+            });
+        }
+        local_faces.push(lf);
+    }
+    let local = TriMesh {
+        positions: map.iter().map(|&g| mesh.positions[g as usize]).collect(),
+        faces: local_faces,
+        ..Default::default()
+    };
+    let topo = Topology::build(&local)?;
+    let w_local: Vec<f64> = map.iter().map(|&g| weights[g as usize]).collect();
+    let piece =
+        Piece::new(index, map, &local, topo, &w_local, opts.min_angle_deg).map_err(|e| {
+            FlattenableError::Singular {
+                piece: index,
+                iteration: 0,
+                detail: format!("{e:?}"),
+            }
+        })?;
+    let mut report = PieceReport {
+        piece: index,
+        vertices: local.vertex_count(),
+        faces: local.face_count(),
+        interior_vertices: piece.layout.n(),
+        boundary_loops: piece.topo.boundary_loops().len(),
+        ..Default::default()
+    };
+    let positions = if piece.layout.n() == 0 {
+        report.converged = true;
+        report.theta_err.push(0.0);
+        report.stop_reason = "no interior vertex: returned unchanged".into();
+        report.messages.push(report.stop_reason.clone());
+        local.positions.clone()
+    } else {
+        match opts.mode {
+            Mode::Paper => paper::run(&piece, opts, &mut report)?,
+            Mode::Robust => robust::run(&piece, opts, &mut report).positions,
+        }
+    };
+    piece.measure(&positions, &mut report);
+    if report.input_total_defect_rad < 0.0 && !report.converged {
+        report.messages.push(format!(
+            "the piece has a negative total angle defect ({:.3} rad, saddle-like): with its boundary fixed it can only become flat by wrinkling near the boundary; a dart or a different cut may be needed",
+            report.input_total_defect_rad
+        ));
+    }
+    report.seconds = start.elapsed().as_secs_f64();
+    Ok((positions, piece.vertex_map, report))
+}
+
+fn summarise(
+    input: &TriMesh,
+    out: &TriMesh,
+    opts: &ProcessOptions,
+    pieces: Vec<PieceReport>,
+    seconds: f64,
+) -> ProcessReport {
+    let iterations = pieces.iter().map(|p| p.iterations).max().unwrap_or(0);
+    let theta_err = (0..=iterations)
+        .map(|i| {
+            pieces
+                .iter()
+                .filter_map(|p| p.theta_err.get(i.min(p.theta_err.len().saturating_sub(1))))
+                .fold(0.0f64, |m, &e| m.max(e))
+        })
+        .collect();
+    let n_int: usize = pieces.iter().map(|p| p.interior_vertices).sum();
+    let rms = |f: fn(&PieceReport) -> f64| {
+        if n_int == 0 {
+            return 0.0;
+        }
+        (pieces
+            .iter()
+            .map(|p| f(p).powi(2) * p.interior_vertices as f64)
+            .sum::<f64>()
+            / n_int as f64)
+            .sqrt()
+    };
+    let a0: f64 = face_areas(&input.positions, &input.faces).iter().sum();
+    let a1: f64 = face_areas(&out.positions, &out.faces).iter().sum();
+    ProcessReport {
+        mode: match opts.mode {
+            Mode::Paper => "paper".into(),
+            Mode::Robust => "robust".into(),
+        },
+        iterations,
+        converged: pieces.iter().all(|p| p.converged),
+        theta_err,
+        final_theta_err: pieces.iter().fold(0.0, |m, p| m.max(p.final_theta_err)),
+        final_theta_rms: rms(|p| p.final_theta_rms),
+        max_displacement_mm: pieces.iter().fold(0.0, |m, p| m.max(p.max_displacement_mm)),
+        rms_displacement_mm: rms(|p| p.rms_displacement_mm),
+        area_change_percent: if a0 > 0.0 {
+            100.0 * (a1 - a0) / a0
+        } else {
+            0.0
+        },
+        folded_faces: pieces.iter().map(|p| p.folded_faces).sum(),
+        seconds,
+        messages: pieces
+            .iter()
+            .flat_map(|p| {
+                p.messages
+                    .iter()
+                    .map(move |m| format!("piece {}: {m}", p.piece))
+            })
+            .collect(),
+        pieces,
+    }
+}

@@ -1,0 +1,86 @@
+//! What [`crate::process`] reports, per piece and for the whole mesh (serialised to JSON
+//! by the CLI's `--report`).
+//!
+//! θ_err is the paper's Eq. 13, max_p |θ(v_p) − 2π| over interior vertices (radians); the
+//! RMS over interior vertices is reported beside it because a maximum hides how much of a
+//! piece is already flat.
+
+use serde::Serialize;
+
+/// The outcome of one connected component.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct PieceReport {
+    /// Component number (order of first appearance of its faces).
+    pub piece: usize,
+    /// Vertices of the piece.
+    pub vertices: usize,
+    /// Faces of the piece.
+    pub faces: usize,
+    /// Interior vertices (the constraints θ = 2π and the vertices that move).
+    pub interior_vertices: usize,
+    /// Boundary loops (1 for a disk; more for a piece with holes, all fixed).
+    pub boundary_loops: usize,
+    /// Accepted iterations.
+    pub iterations: usize,
+    /// Robust mode: θ_err ≤ tolerance. Paper mode: the paper's terminal condition held.
+    pub converged: bool,
+    /// θ_err (max |θ − 2π|, rad) of the input and after every accepted iteration.
+    pub theta_err: Vec<f64>,
+    /// θ_err of the returned positions (rad).
+    pub final_theta_err: f64,
+    /// RMS of θ − 2π over interior vertices of the returned positions (rad).
+    pub final_theta_rms: f64,
+    /// Σ (2π − θ) over interior vertices of the input (rad): the total Gaussian curvature
+    /// the fixed boundary has to absorb. Negative (saddle-like) pieces are hard.
+    pub input_total_defect_rad: f64,
+    /// Largest vertex displacement (model units, mm).
+    pub max_displacement_mm: f64,
+    /// RMS displacement over interior vertices (mm).
+    pub rms_displacement_mm: f64,
+    /// Relative change of the total area, in percent.
+    pub area_change_percent: f64,
+    /// Faces whose normal flipped against the input or with a corner newly below the
+    /// angle floor (0 in every returned result of robust mode).
+    pub folded_faces: usize,
+    /// Smallest corner angle of the result (degrees).
+    pub min_angle_deg: f64,
+    /// Trial steps rejected by the merit test or the fold guards (robust mode).
+    pub rejected_steps: usize,
+    /// Wall time of the piece (seconds).
+    pub seconds: f64,
+    /// Why the iteration stopped.
+    pub stop_reason: String,
+    /// Diagnostics worth reading (switches, warnings, unchanged pieces).
+    pub messages: Vec<String>,
+}
+
+/// The outcome of [`crate::process`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ProcessReport {
+    /// "paper" or "robust".
+    pub mode: String,
+    /// Largest iteration count over the pieces.
+    pub iterations: usize,
+    /// Every piece converged.
+    pub converged: bool,
+    /// Per iteration, the largest θ_err over the pieces (a finished piece keeps its last).
+    pub theta_err: Vec<f64>,
+    /// Largest θ_err over the pieces (rad).
+    pub final_theta_err: f64,
+    /// RMS of θ − 2π over all interior vertices (rad).
+    pub final_theta_rms: f64,
+    /// Largest vertex displacement (mm).
+    pub max_displacement_mm: f64,
+    /// RMS displacement over all interior vertices (mm).
+    pub rms_displacement_mm: f64,
+    /// Relative change of the total area (percent).
+    pub area_change_percent: f64,
+    /// Folded faces over all pieces.
+    pub folded_faces: usize,
+    /// Wall time of the whole call (seconds).
+    pub seconds: f64,
+    /// One entry per connected component.
+    pub pieces: Vec<PieceReport>,
+    /// Diagnostics of the whole call.
+    pub messages: Vec<String>,
+}

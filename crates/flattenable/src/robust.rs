@@ -1,0 +1,191 @@
+//! `Mode::Robust` (the default): the paper's least-norm step under Levenberg–Marquardt
+//! damping with a trust-region ratio test on the merit f = ‖θ − 2π‖².
+//!
+//! At every accepted point: A, b = 2π − θ, the step d = G Aᵀ (A G Aᵀ + μ m I)⁻¹ b where
+//! m is the mean diagonal of A G Aᵀ (so μ is scale free), the trial point v + d (or its
+//! least-square filter while that phase lasts), and the ratio ρ of actual to predicted
+//! decrease of f (predicted by the linear model: ‖b‖² − ‖b − A d‖²). A trial that
+//! folds a face (normal flip against the input or a corner newly below the floor), is
+//! not finite, or does not decrease f is rejected and μ raised; an accepted one lowers μ
+//! when the model was good. As μ → 0 the step is the paper's (Gauss–Newton on the
+//! constraints), so the end game converges quadratically where A has full rank.
+//!
+//! The least-square phase (`Update::LeastSquare`) lasts while each filtered step still
+//! reduces f by at least 10 %; then the plain damped step finishes (the filter's fixed
+//! point is not θ = 2π, as the paper notes).
+//!
+//! Stops: θ_err ≤ tolerance (converged); the iteration limit; μ beyond `MU_MAX` (no
+//! decreasing unfolded step exists at any damping); or no 10 % gain of the best ‖θ − 2π‖
+//! in `STALL_WINDOW` iterations. The best unfolded state (lowest merit) is returned in
+//! every case.
+
+use std::f64::consts::TAU;
+
+use crate::laplacian::LeastSquareUpdate;
+use crate::least_norm::{Metric, least_norm_step};
+use crate::options::{ProcessOptions, Update};
+use crate::piece::Piece;
+use crate::report::PieceReport;
+
+/// Initial damping relative to the mean diagonal of A G Aᵀ (the prototype's value).
+const MU_START: f64 = 1e-3;
+/// Smallest relative damping: keeps the factorisation defined when rows of A vanish at
+/// flat vertices, ~1e3 above f64 round-off of the diagonal.
+const MU_MIN: f64 = 1e-13;
+/// Largest relative damping before giving up: the step is then ~1e-8 of the steepest
+/// descent step and no longer moves anything measurable.
+const MU_MAX: f64 = 1e8;
+/// Iterations without a 10 % gain of the best ‖θ − 2π‖ that count as a stall.
+const STALL_WINDOW: usize = 60;
+/// Accept a trial when ρ exceeds this (any real decrease of the merit).
+const RHO_ACCEPT: f64 = 1e-4;
+
+/// Outcome of a robust run on one piece.
+pub struct RobustOutcome {
+    /// Best (lowest θ_err) unfolded local positions reached.
+    pub positions: Vec<[f64; 3]>,
+}
+
+/// Runs robust mode on one piece; fills `report` (converged or not).
+pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> RobustOutcome {
+    let layout = &piece.layout;
+    let n = layout.n();
+    let mut pos = piece.pos0.clone();
+    let mut theta = vec![0.0; n];
+    let mut trial_theta = vec![0.0; n];
+    let mut grad = vec![[0.0; 3]; layout.entries()];
+    let mut normal = vec![0.0; layout.normal_nnz()];
+    layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+    let (mut err, mut f) = Piece::errors(&theta);
+    report.theta_err.push(err);
+    // Best state by the merit f (what the steps decrease); the max can rise meanwhile.
+    let mut best = (f, pos.clone());
+    let mut best_at = 0usize;
+    let scale: Vec<f64> = piece.weights.iter().map(|w| 1.0 / (w * w)).collect();
+    let tangential = 1.0 / (opts.tangential_penalty * opts.tangential_penalty);
+    let mut ls = match opts.update {
+        Update::LeastSquare => {
+            match LeastSquareUpdate::new(
+                layout,
+                &piece.topo,
+                &piece.pos0,
+                &piece.faces,
+                opts.laplacian,
+                opts.target,
+                &piece.weights,
+            ) {
+                Ok(u) => Some(u),
+                Err(e) => {
+                    report.messages.push(format!(
+                        "least-square filter unavailable ({e:?}); direct update"
+                    ));
+                    None
+                }
+            }
+        }
+        Update::Direct => None,
+    };
+    let mut mu = MU_START;
+    let limit = opts.iteration_limit();
+    report.stop_reason = "iteration limit".into();
+    loop {
+        if err <= opts.tolerance_rad {
+            report.converged = true;
+            report.stop_reason = format!("θ_err ≤ {:.1e} rad", opts.tolerance_rad);
+            break;
+        }
+        if report.iterations >= limit {
+            break;
+        }
+        if report.iterations >= best_at + STALL_WINDOW {
+            report.stop_reason =
+                format!("stalled: no 10 % gain of ‖θ − 2π‖ in {STALL_WINDOW} iterations");
+            break;
+        }
+        let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
+        let metric = Metric {
+            scale: &scale,
+            normals: normals.as_deref(),
+            tangential,
+        };
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        let mean_diag = layout.mean_diagonal(&normal).max(f64::MIN_POSITIVE);
+        let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
+        let interior = piece.interior_of(&pos);
+        let mut accepted = None;
+        while mu <= MU_MAX {
+            let d = match least_norm_step(layout, &grad, &metric, &normal, &b, mu * mean_diag) {
+                Ok(d) => d,
+                Err(_) => {
+                    mu = (mu * 10.0).max(MU_MIN);
+                    report.rejected_steps += 1;
+                    continue;
+                }
+            };
+            let v_star: Vec<[f64; 3]> = interior
+                .iter()
+                .zip(&d)
+                .map(|(v, d)| [v[0] + d[0], v[1] + d[1], v[2] + d[2]])
+                .collect();
+            let filtered = ls.as_ref().map(|u| u.apply(layout, &v_star));
+            let next = filtered.as_ref().unwrap_or(&v_star);
+            let trial = piece.with_interior(&pos, next);
+            let folded = piece.folded_faces(&trial);
+            let f_trial = if folded == 0 {
+                layout.theta(&trial, &piece.faces, &mut trial_theta);
+                Piece::errors(&trial_theta).1
+            } else {
+                f64::INFINITY
+            };
+            if ls.is_some() {
+                if f_trial.is_finite() && f_trial < 0.9 * f {
+                    accepted = Some((trial, f_trial));
+                    break;
+                }
+                ls = None;
+                report.messages.push(format!(
+                    "least-square phase ended after {} iterations; direct damped steps finish",
+                    report.iterations
+                ));
+                continue;
+            }
+            // Predicted decrease of the linear model.
+            let ad = layout.apply(&grad, &d);
+            let res: f64 = b.iter().zip(&ad).map(|(b, a)| (b - a) * (b - a)).sum();
+            let pred = f - res;
+            let rho = if pred > 0.0 {
+                (f - f_trial) / pred
+            } else {
+                -1.0
+            };
+            if f_trial.is_finite() && f_trial < f && rho > RHO_ACCEPT {
+                if rho > 0.75 {
+                    mu = (mu / 3.0).max(MU_MIN);
+                } else if rho < 0.25 {
+                    mu *= 2.0;
+                }
+                accepted = Some((trial, f_trial));
+                break;
+            }
+            report.rejected_steps += 1;
+            mu *= 4.0;
+        }
+        let Some((trial, _)) = accepted else {
+            report.stop_reason =
+                "no decreasing unfolded step at any damping (μ above its limit)".into();
+            break;
+        };
+        pos = trial;
+        layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+        (err, f) = Piece::errors(&theta);
+        report.iterations += 1;
+        report.theta_err.push(err);
+        if f < best.0 {
+            if f < 0.81 * best.0 {
+                best_at = report.iterations;
+            }
+            best = (f, pos.clone());
+        }
+    }
+    RobustOutcome { positions: best.1 }
+}

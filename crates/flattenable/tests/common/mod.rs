@@ -1,0 +1,62 @@
+//! Test surfaces: height-field grids with one diagonal per quad (the issue's patches).
+#![allow(dead_code, clippy::unwrap_used)]
+
+use flatcut_mesh::TriMesh;
+
+/// N×N vertices on [−half, half]², z = height(x, y), faces counter-clockwise from +z.
+pub fn grid(n: usize, half: f64, height: impl Fn(f64, f64) -> f64) -> TriMesh {
+    let mut positions = Vec::with_capacity(n * n);
+    for j in 0..n {
+        for i in 0..n {
+            let x = -half + 2.0 * half * i as f64 / (n - 1) as f64;
+            let y = -half + 2.0 * half * j as f64 / (n - 1) as f64;
+            positions.push([x, y, height(x, y)]);
+        }
+    }
+    let mut faces = Vec::new();
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let a = (j * n + i) as u32;
+            let b = a + 1;
+            let c = a + n as u32;
+            let d = c + 1;
+            faces.push([a, b, d]);
+            faces.push([a, d, c]);
+        }
+    }
+    TriMesh::new(positions, faces).unwrap()
+}
+
+/// The 60° sphere cap of the issue: unit sphere over x, y ∈ [−0.5, 0.5].
+pub fn sphere_cap(n: usize) -> TriMesh {
+    grid(n, 0.5, |x, y| (1.0 - x * x - y * y).sqrt())
+}
+
+/// The saddle z = 0.3(x² − y²) on [−1, 1]².
+pub fn saddle(n: usize) -> TriMesh {
+    grid(n, 1.0, |x, y| 0.3 * (x * x - y * y))
+}
+
+/// A planar grid.
+pub fn planar(n: usize) -> TriMesh {
+    grid(n, 1.0, |_, _| 0.0)
+}
+
+/// A cylinder patch of radius r: x ∈ [−1, 1] mapped onto the cylinder around the y axis.
+pub fn cylinder(n: usize, r: f64) -> TriMesh {
+    let mut m = grid(n, 1.0, |_, _| 0.0);
+    for p in &mut m.positions {
+        let a = p[0] / r;
+        *p = [r * a.sin(), p[1], r * a.cos()];
+    }
+    m
+}
+
+/// Number of boundary vertices changed bit-wise.
+pub fn boundary_changed(a: &TriMesh, b: &TriMesh) -> usize {
+    let topo = flatcut_mesh::Topology::build(a).unwrap();
+    (0..a.vertex_count())
+        .filter(|&v| topo.is_boundary_vertex(flatcut_mesh::VertexId(v as u32)))
+        .filter(|&v| a.positions[v] != b.positions[v])
+        .count()
+}

@@ -1,0 +1,186 @@
+//! The weighted least-norm step (Eq. 6–8, 14–16) against its defining identity A d = b
+//! and against an independent dense path (faer dense SVD pseudo-inverse).
+
+#![allow(clippy::unwrap_used, clippy::needless_range_loop)]
+
+mod common;
+
+use std::f64::consts::TAU;
+
+use faer::Mat;
+use flatcut_flattenable::least_norm::{Layout, Metric, least_norm_step};
+use flatcut_mesh::Topology;
+
+fn setup(mesh: &flatcut_mesh::TriMesh) -> (Layout, Vec<f64>, Vec<[f64; 3]>) {
+    let topo = Topology::build(mesh).unwrap();
+    let layout = Layout::build(&topo, &mesh.faces).unwrap();
+    let mut theta = vec![0.0; layout.n()];
+    let mut grad = vec![[0.0; 3]; layout.entries()];
+    layout.evaluate(&mesh.positions, &mesh.faces, &mut theta, &mut grad);
+    (layout, theta, grad)
+}
+
+fn dense_a(layout: &Layout, grad: &[[f64; 3]]) -> Mat<f64> {
+    let n = layout.n();
+    let mut a = Mat::<f64>::zeros(n, 3 * n);
+    for i in 0..n {
+        for e in layout.row_ptr[i]..layout.row_ptr[i + 1] {
+            let c = layout.col[e] as usize;
+            for k in 0..3 {
+                a[(i, 3 * c + k)] = grad[e][k];
+            }
+        }
+    }
+    a
+}
+
+#[test]
+fn weighted_step_solves_constraints_and_equals_dense_pseudo_inverse() {
+    for mesh in [common::sphere_cap(6), common::saddle(6)] {
+        let (layout, theta, grad) = setup(&mesh);
+        let n = layout.n();
+        // Weights 1..10 varying over the vertices.
+        let w: Vec<f64> = (0..n).map(|i| 1.0 + 9.0 * (i % 4) as f64 / 3.0).collect();
+        let scale: Vec<f64> = w.iter().map(|w| 1.0 / (w * w)).collect();
+        let metric = Metric {
+            scale: &scale,
+            normals: None,
+            tangential: 1.0,
+        };
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
+        let d = least_norm_step(&layout, &grad, &metric, &normal, &b, 0.0).unwrap();
+
+        // A d = b.
+        let ad = layout.apply(&grad, &d);
+        let bn = b.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let res = ad
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y) * (x - y))
+            .sum::<f64>()
+            .sqrt();
+        assert!(res / bn < 1e-12, "relative residual {}", res / bn);
+
+        // Dense: d = W (A W)⁺ b with W = diag(1/w) per coordinate.
+        let a = dense_a(&layout, &grad);
+        let aw = Mat::<f64>::from_fn(n, 3 * n, |i, j| a[(i, j)] / w[j / 3]);
+        let pinv = aw.svd().unwrap().pseudoinverse();
+        let bm = Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
+        let r = &pinv * &bm;
+        let dn = d.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+        let mut diff = 0.0;
+        for c in 0..n {
+            for k in 0..3 {
+                let dense = r[(3 * c + k, 0)] / w[c];
+                diff += (dense - d[c][k]).powi(2);
+            }
+        }
+        assert!(
+            diff.sqrt() / dn < 1e-10,
+            "sparse vs dense {}",
+            diff.sqrt() / dn
+        );
+    }
+}
+
+#[test]
+fn damped_step_is_smaller_and_tends_to_the_undamped_one() {
+    let mesh = common::sphere_cap(8);
+    let (layout, theta, grad) = setup(&mesh);
+    let scale = vec![1.0; layout.n()];
+    let metric = Metric {
+        scale: &scale,
+        normals: None,
+        tangential: 1.0,
+    };
+    let mut normal = vec![0.0; layout.normal_nnz()];
+    layout.normal_matrix(&grad, &metric, &mut normal);
+    let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
+    let m = layout.mean_diagonal(&normal);
+    let norm = |d: &[[f64; 3]]| d.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+    let d0 = least_norm_step(&layout, &grad, &metric, &normal, &b, 0.0).unwrap();
+    let d1 = least_norm_step(&layout, &grad, &metric, &normal, &b, 1.0 * m).unwrap();
+    let dt = least_norm_step(&layout, &grad, &metric, &normal, &b, 1e-12 * m).unwrap();
+    assert!(norm(&d1) < norm(&d0));
+    let diff: Vec<[f64; 3]> = d0
+        .iter()
+        .zip(&dt)
+        .map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]])
+        .collect();
+    assert!(norm(&diff) < 1e-8 * norm(&d0));
+}
+
+#[test]
+fn normal_metric_moves_mostly_along_normals() {
+    // On the unit-sphere cap the exact normal is the position.
+    let mesh = common::sphere_cap(8);
+    let (layout, theta, grad) = setup(&mesh);
+    let n = layout.n();
+    let scale = vec![1.0; n];
+    let normals: Vec<[f64; 3]> = layout
+        .interior
+        .iter()
+        .map(|&p| mesh.positions[p as usize])
+        .collect();
+    let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
+    let tangential_share = |t: f64| {
+        let metric = Metric {
+            scale: &scale,
+            normals: Some(&normals),
+            tangential: t,
+        };
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        let d = least_norm_step(&layout, &grad, &metric, &normal, &b, 0.0).unwrap();
+        // Still solves A d = b.
+        let ad = layout.apply(&grad, &d);
+        let res: f64 = ad
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(res < 1e-10 * b.iter().fold(0.0f64, |m, x| m.max(x.abs())));
+        let (mut tan, mut all) = (0.0, 0.0);
+        for (dv, nv) in d.iter().zip(&normals) {
+            let dn = dv[0] * nv[0] + dv[1] * nv[1] + dv[2] * nv[2];
+            let d2 = dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2];
+            tan += d2 - dn * dn;
+            all += d2;
+        }
+        tan / all
+    };
+    let (t1, t001) = (tangential_share(1.0), tangential_share(0.01));
+    eprintln!("tangential share t=1: {t1}, t=0.01: {t001}");
+    assert!(t001 < 0.5 * t1);
+}
+
+#[test]
+fn weighted_vertices_take_a_smaller_share_of_the_step() {
+    // Eq. 14–16: weight 10 on every other interior vertex; those vertices' step shrinks.
+    let mesh = common::sphere_cap(9);
+    let (layout, theta, grad) = setup(&mesh);
+    let n = layout.n();
+    let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
+    let step = |w: &dyn Fn(usize) -> f64| {
+        let scale: Vec<f64> = (0..n).map(|i| 1.0 / (w(i) * w(i))).collect();
+        let metric = Metric {
+            scale: &scale,
+            normals: None,
+            tangential: 1.0,
+        };
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        least_norm_step(&layout, &grad, &metric, &normal, &b, 0.0).unwrap()
+    };
+    let plain = step(&|_| 1.0);
+    let weighted = step(&|i| if i % 2 == 0 { 10.0 } else { 1.0 });
+    let norm = |d: &[f64; 3]| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    let (mut p, mut w) = (0.0, 0.0);
+    for i in (0..n).step_by(2) {
+        p += norm(&plain[i]);
+        w += norm(&weighted[i]);
+    }
+    assert!(w < p, "{w} vs {p}");
+}
