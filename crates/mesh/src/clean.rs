@@ -45,7 +45,8 @@ pub struct CleanOptions {
     /// Drop faces on the same three vertices as an earlier face, in either orientation.
     /// Default true.
     pub drop_duplicate_faces: bool,
-    /// Drop vertices no face uses. Default true.
+    /// Drop vertices no face uses. Default true. (Vertices welded into another are removed
+    /// either way; [`CleanMap::vertex_target`] says where they went.)
     pub drop_unreferenced: bool,
     /// Make face orientation consistent within each piece joined by two-face edges, by
     /// breadth-first flipping; closed pieces end up outward (positive signed volume), open

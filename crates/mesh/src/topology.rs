@@ -530,7 +530,8 @@ impl Topology {
     }
 
     /// Neighbours of a manifold vertex in counter-clockwise order; for a boundary vertex the
-    /// first and last are its two boundary neighbours. `None` for unused or non-manifold vertices.
+    /// first and last are its two boundary neighbours. `None` for unused or non-manifold
+    /// vertices, and for vertices whose fan is cut by an inconsistently oriented edge.
     pub fn one_ring(&self, v: VertexId) -> Option<&[u32]> {
         let i = v.idx();
         let (s, e) = (
