@@ -15,6 +15,7 @@ macro_rules! outln {
 mod demo;
 mod flatten;
 mod info;
+mod process;
 mod util;
 
 use std::process::ExitCode;
@@ -37,6 +38,8 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Flatten open pieces to a true-size 2D pattern (OBJ) and measure the distortion.
     Flatten(flatten::FlattenArgs),
+    /// Make pieces flattenable (θ = 2π at every interior vertex) with the least-norm method.
+    Process(process::ProcessArgs),
 }
 
 fn main() -> ExitCode {
@@ -49,6 +52,7 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Flatten(args) => flatten::run(args),
+        Command::Process(args) => process::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

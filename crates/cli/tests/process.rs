@@ -1,0 +1,195 @@
+//! `flatcut process` end to end: a sphere-cap OBJ in, a flattenable OBJ / GLB and a JSON
+//! report out; a run that cannot converge fails with exit code 1 and writes nothing.
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::Path;
+use std::process::Command;
+
+fn flatcut() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_flatcut"))
+}
+
+/// The 60° test cap (unit sphere over [−0.5, 0.5]², scaled to cm), n × n vertices.
+fn cap_obj(n: usize) -> String {
+    let mut s = String::new();
+    for j in 0..n {
+        for i in 0..n {
+            let x = -0.5 + i as f64 / (n - 1) as f64;
+            let y = -0.5 + j as f64 / (n - 1) as f64;
+            let z = (1.0 - x * x - y * y).sqrt();
+            s += &format!("v {:.17} {:.17} {:.17}\n", 10.0 * x, 10.0 * y, 10.0 * z);
+        }
+    }
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let a = j * n + i + 1;
+            let (b, c, d) = (a + 1, a + n, a + n + 1);
+            s += &format!("f {a} {b} {d}\nf {a} {d} {c}\n");
+        }
+    }
+    s
+}
+
+fn read_obj(path: &Path) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let (mut v, mut f) = (Vec::new(), Vec::new());
+    for line in text.lines() {
+        let t: Vec<&str> = line.split_whitespace().collect();
+        match t.first() {
+            Some(&"v") => v.push([
+                t[1].parse().unwrap(),
+                t[2].parse().unwrap(),
+                t[3].parse().unwrap(),
+            ]),
+            Some(&"f") => {
+                let idx = |s: &str| s.split('/').next().unwrap().parse::<u32>().unwrap() - 1;
+                f.push([idx(t[1]), idx(t[2]), idx(t[3])]);
+            }
+            _ => {}
+        }
+    }
+    (v, f)
+}
+
+#[test]
+fn process_makes_a_cap_flattenable_and_reports() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cap.obj");
+    std::fs::write(&input, cap_obj(12)).unwrap();
+    let out = dir.path().join("flat.obj");
+    let report = dir.path().join("report.json");
+    let run = flatcut()
+        .args([
+            "process",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--units",
+            "cm",
+        ])
+        .args(["--report", report.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("converged"), "{stdout}");
+    let rep: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    for key in [
+        "iterations",
+        "converged",
+        "theta_err",
+        "final_theta_err",
+        "max_displacement_mm",
+        "rms_displacement_mm",
+        "area_change_percent",
+        "folded_faces",
+        "seconds",
+        "pieces",
+    ] {
+        assert!(rep.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(rep["converged"], true);
+    assert!(rep["final_theta_err"].as_f64().unwrap() <= 1e-9);
+    // Displacements are in mm: the cap (radius 100 mm) is pushed down by ~1 cm.
+    let maxd = rep["max_displacement_mm"].as_f64().unwrap();
+    assert!((5.0..20.0).contains(&maxd), "{maxd}");
+    // The written OBJ (in cm, as the input) is flattenable: θ recomputed from the file.
+    let (v, f) = read_obj(&out);
+    let theta = flatcut_mesh::geometry::angle_sums(&v, &f);
+    let mesh = flatcut_mesh::TriMesh::new(v, f).unwrap();
+    let topo = flatcut_mesh::Topology::build(&mesh).unwrap();
+    let worst = (0..mesh.vertex_count())
+        .filter(|&i| topo.is_interior_vertex(flatcut_mesh::VertexId(i as u32)))
+        .map(|i| (theta[i] - std::f64::consts::TAU).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-9, "{worst}");
+    assert!(mesh.diagonal() < 20.0, "written in cm");
+
+    // GLB output with colours, paper mode, JSON on stdout.
+    let glb = dir.path().join("flat.glb");
+    let run = flatcut()
+        .args(["process", input.to_str().unwrap(), glb.to_str().unwrap()])
+        .args([
+            "--mode",
+            "paper",
+            "--update",
+            "least-square",
+            "--laplacian",
+            "uniform",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let rep: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!(rep["mode"], "paper");
+    let loaded = flatcut_io::read_mesh(&glb, flatcut_io::Units::Mm).unwrap();
+    assert!(loaded.mesh.attributes.colors.is_some());
+}
+
+#[test]
+fn unconverged_run_fails_and_writes_nothing_unless_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cap.obj");
+    std::fs::write(&input, cap_obj(10)).unwrap();
+    let out = dir.path().join("out.obj");
+    let report = dir.path().join("r.json");
+    let run = flatcut()
+        .args([
+            "process",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--max-iterations",
+            "2",
+        ])
+        .args(["--report", report.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        err.contains("did not converge") && err.contains("best θ_err"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let rep: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(rep["converged"], false);
+    let run = flatcut()
+        .args([
+            "process",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--max-iterations",
+            "2",
+        ])
+        .arg("--keep-best")
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1));
+    assert!(out.exists());
+    // A bad weights file names the file and the problem.
+    let w = dir.path().join("w.txt");
+    std::fs::write(&w, "1 2 x\n").unwrap();
+    let run = flatcut()
+        .args([
+            "process",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--weights",
+            w.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("w.txt:1"));
+}
