@@ -128,6 +128,21 @@ fn parse_document(json: &[u8], path: &Path, in_glb: bool) -> Result<gltf::Docume
             }
         }
     })?;
+    // Quantised attributes are read (normalised integers); anything else required, e.g.
+    // Draco or meshopt compression, changes how buffers must be decoded.
+    if let Some(ext) = root
+        .extensions_required
+        .iter()
+        .find(|e| e.as_str() != "KHR_mesh_quantization")
+    {
+        return Err(IoError::Gltf {
+            path: path.to_path_buf(),
+            element: "extensionsRequired".into(),
+            reason: format!(
+                "requires extension '{ext}', which flatcut cannot decode; re-export without it"
+            ),
+        });
+    }
     // gltf-json 1.4's validation indexes `accessors[POSITION]` without a bounds check;
     // check attribute indices first so that a dangling index is an error, not a panic.
     for (mi, m) in root.meshes.iter().enumerate() {

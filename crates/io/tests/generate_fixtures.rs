@@ -352,6 +352,7 @@ vt 0 0\nvn 0 0 1\nv 0.5 1.5 0.25\nv 9 9 9\ng left side\nusemtl skin\ns 1\nf 1/1/
         ("gltf_missing_bin.gltf", tri_gltf_json(r#"{"mesh":0}"#, r#""uri":"missing.bin","#, 5, 4, 5123).into_bytes(), "external buffer file does not exist"),
         ("gltf_bad_base64.gltf", tri_gltf_json(r#"{"mesh":0}"#, r#""uri":"data:application/octet-stream;base64,AAAA*AAA","#, 5, 4, 5123).into_bytes(), "invalid character in base64 data URI"),
         ("gltf_dangling_index.gltf", tri_gltf_json(r#"{"mesh":3}"#, r#""uri":"data:application/octet-stream;base64,AAAA","#, 5, 4, 5123).into_bytes(), "node refers to mesh 3 which does not exist (schema)"),
+        ("glb_draco_required.glb", glb(&good_glb_json(4, 5).replacen('{', r#"{"extensionsRequired":["KHR_draco_mesh_compression"],"extensionsUsed":["KHR_draco_mesh_compression"],"#, 1), &bin), "requires the Draco extension, which cannot be decoded"),
         ("unknown.xyz", b"0 0 0\n1 0 0\n".to_vec(), "unsupported extension .xyz"),
     ];
     let mut readme = String::from(
