@@ -250,71 +250,69 @@ pub struct WriteOptions {
 /// [`IoError::UnsupportedFormat`] for other extensions (including `.gltf`: write `.glb`),
 /// [`IoError::Mesh`] if the mesh is invalid (NaN never reaches a file), [`IoError::Io`].
 pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<(), IoError> {
-    let format = match opts.format.or_else(|| Format::from_extension(path)) {
-        Some(f @ (Format::Obj | Format::Ply | Format::Stl | Format::Glb)) => f,
-        _ => {
-            return Err(IoError::UnsupportedFormat {
-                path: path.to_path_buf(),
-                extension: extension_of(path),
-                action: "writes",
-                supported: WRITE_EXTENSIONS,
-            });
-        }
-    };
-    mesh.validate().map_err(|source| IoError::Mesh {
-        path: path.to_path_buf(),
-        line: None,
-        source,
-    })?;
-    let scaled;
-    let mesh = if opts.units == Units::Mm {
-        mesh
-    } else {
-        let mut m = mesh.clone();
-        m.scale(1.0 / opts.units.factor_to_mm());
-        m.validate().map_err(|source| IoError::Mesh {
-            path: path.to_path_buf(),
-            line: None,
-            source,
-        })?;
-        scaled = m;
-        &scaled
-    };
-    atomic::write_atomically(path, |w| match format {
-        Format::Obj => obj::write(w, mesh),
-        Format::Ply => ply::write(w, mesh),
-        Format::Stl => stl::write(w, mesh),
-        _ => glb_write::write(w, mesh, opts.scalar_range),
-    })
+    let format = writable(opts.format.or_else(|| Format::from_extension(path)), path)?;
+    let mesh = prepare(mesh, opts.units, path)?;
+    atomic::write_atomically(path, |w| encode(w, &mesh, format, opts))
 }
 
-/// Encodes a mesh to bytes in memory in one of the writable formats (no units conversion).
+/// Encodes a mesh in memory in one of the writable formats (`format` wins over
+/// `opts.format`; `opts.units` applies), with the same checks as [`write_mesh`].
 pub fn write_mesh_to_vec(
     mesh: &TriMesh,
     format: Format,
     opts: &WriteOptions,
 ) -> Result<Vec<u8>, IoError> {
     let name = PathBuf::from(format!("<memory>.{}", format.name()));
-    mesh.validate().map_err(|source| IoError::Mesh {
-        path: name.clone(),
+    let format = writable(Some(format), &name)?;
+    let mesh = prepare(mesh, opts.units, &name)?;
+    let mut out = Vec::new();
+    encode(&mut out, &mesh, format, opts).map_err(|source| IoError::Io { path: name, source })?;
+    Ok(out)
+}
+
+fn writable(format: Option<Format>, path: &Path) -> Result<Format, IoError> {
+    match format {
+        Some(f @ (Format::Obj | Format::Ply | Format::Stl | Format::Glb)) => Ok(f),
+        _ => Err(IoError::UnsupportedFormat {
+            path: path.to_path_buf(),
+            extension: extension_of(path),
+            action: "writes",
+            supported: WRITE_EXTENSIONS,
+        }),
+    }
+}
+
+/// Validates (NaN never reaches a file) and converts millimetres to the output unit.
+fn prepare<'m>(
+    mesh: &'m TriMesh,
+    units: Units,
+    path: &Path,
+) -> Result<std::borrow::Cow<'m, TriMesh>, IoError> {
+    let invalid = |source| IoError::Mesh {
+        path: path.to_path_buf(),
         line: None,
         source,
-    })?;
-    let mut out = Vec::new();
-    let r = match format {
-        Format::Obj => obj::write(&mut out, mesh),
-        Format::Ply => ply::write(&mut out, mesh),
-        Format::Stl => stl::write(&mut out, mesh),
-        Format::Glb => glb_write::write(&mut out, mesh, opts.scalar_range),
-        Format::Gltf => {
-            return Err(IoError::UnsupportedFormat {
-                path: name,
-                extension: ".gltf".into(),
-                action: "writes",
-                supported: WRITE_EXTENSIONS,
-            });
-        }
     };
-    r.map_err(|source| IoError::Io { path: name, source })?;
-    Ok(out)
+    mesh.validate().map_err(invalid)?;
+    if units == Units::Mm {
+        return Ok(std::borrow::Cow::Borrowed(mesh));
+    }
+    let mut m = mesh.clone();
+    m.scale(1.0 / units.factor_to_mm());
+    m.validate().map_err(invalid)?;
+    Ok(std::borrow::Cow::Owned(m))
+}
+
+fn encode(
+    w: &mut dyn std::io::Write,
+    mesh: &TriMesh,
+    format: Format,
+    opts: &WriteOptions,
+) -> std::io::Result<()> {
+    match format {
+        Format::Obj => obj::write(w, mesh),
+        Format::Ply => ply::write(w, mesh),
+        Format::Stl => stl::write(w, mesh),
+        _ => glb_write::write(w, mesh, opts.scalar_range),
+    }
 }

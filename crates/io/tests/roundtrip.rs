@@ -253,3 +253,18 @@ fn failed_writes_leave_no_partial_file() {
             .starts_with(b"ply\nformat binary_little_endian")
     );
 }
+
+#[test]
+fn in_memory_encoding_matches_file_and_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = awkward_mesh();
+    for format in [Format::Obj, Format::Ply, Format::Stl, Format::Glb] {
+        let bytes = flatcut_io::write_mesh_to_vec(&m, format, &WriteOptions::default()).unwrap();
+        let path = dir.path().join(format!("m.{}", format.name()));
+        write_mesh(&path, &m, &WriteOptions::default()).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), bytes, "{format:?}");
+        let back = flatcut_io::read_mesh_from_bytes(&bytes, format, "mem", Units::Mm).unwrap();
+        assert_eq!(back.mesh.faces.len(), m.faces.len());
+    }
+    assert!(flatcut_io::write_mesh_to_vec(&m, Format::Gltf, &WriteOptions::default()).is_err());
+}
