@@ -1,0 +1,85 @@
+//! Time of `process` (robust mode) on 60° sphere-cap pieces of ~250 to ~10k faces (100k with
+//! FLATCUT_BENCH_LARGE=1), beside the time of one numeric Cholesky factorisation of A Aᵀ of the
+//! same piece (the cost an iteration is measured against). Iterations, θ_err and the time per
+//! iteration are printed once per size.
+//!
+//! `cargo bench -p flatcut_flattenable --bench process`
+
+use std::f64::consts::TAU;
+use std::hint::black_box;
+use std::time::Instant;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use flatcut_flattenable::least_norm::{Layout, Metric};
+use flatcut_flattenable::{ProcessOptions, process};
+use flatcut_mesh::{Topology, TriMesh};
+
+fn cap(n: usize) -> TriMesh {
+    flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt())
+}
+
+fn bench(c: &mut Criterion) {
+    let mut sizes = vec![12usize, 24, 33, 43, 72];
+    if std::env::var_os("FLATCUT_BENCH_LARGE").is_some() {
+        sizes.push(225);
+    }
+    let mut group = c.benchmark_group("flattenable");
+    group.sample_size(10);
+    for n in sizes {
+        let mesh = cap(n);
+        let faces = mesh.face_count();
+        let opts = ProcessOptions::default();
+        // One run for the numbers beside the timing.
+        let t = Instant::now();
+        let r = process(&mesh, &opts);
+        let secs = t.elapsed().as_secs_f64();
+        let (iters, err) = match &r {
+            Ok(p) => (p.report.iterations, p.report.final_theta_err),
+            Err(e) => {
+                eprintln!("{faces} faces: {e}");
+                continue;
+            }
+        };
+        // One numeric factorisation of A Aᵀ at the input.
+        let topo = Topology::build(&mesh).unwrap_or_else(|e| panic!("{e}"));
+        let layout = Layout::build(&topo, &mesh.faces).unwrap_or_else(|e| panic!("{e:?}"));
+        let mut theta = vec![0.0; layout.n()];
+        let mut grad = vec![[0.0; 3]; layout.entries()];
+        layout.evaluate(&mesh.positions, &mesh.faces, &mut theta, &mut grad);
+        let scale = vec![1.0; layout.n()];
+        let metric = Metric {
+            scale: &scale,
+            normals: None,
+            tangential: 1.0,
+        };
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        let m = layout.mean_diagonal(&normal);
+        let t = Instant::now();
+        let reps = 5;
+        for _ in 0..reps {
+            black_box(
+                layout
+                    .factor(&normal, 1e-3 * m, None)
+                    .unwrap_or_else(|e| panic!("{e:?}")),
+            );
+        }
+        let chol = t.elapsed().as_secs_f64() / reps as f64;
+        let rej = r.as_ref().map_or(0, |p| p.report.pieces[0].rejected_steps);
+        eprintln!(
+            "{faces} faces, {} interior: {iters} iterations (+{rej} rejected), θ_err {err:.1e}, {:.1} ms total, {:.2} ms per tried step, one Cholesky of A Aᵀ {:.2} ms",
+            layout.n(),
+            secs * 1e3,
+            secs * 1e3 / (iters + rej).max(1) as f64,
+            chol * 1e3,
+        );
+        let _ = TAU;
+        group.bench_function(format!("robust_cap_{faces}_faces"), |b| {
+            b.iter(|| black_box(process(black_box(&mesh), &opts).is_ok()))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,179 @@
+//! [`process`]: several pieces, holes, trivial pieces, bad input and determinism.
+
+#![allow(clippy::unwrap_used)]
+
+mod common;
+
+use flatcut_flattenable::{FlattenableError, Mode, ProcessOptions, Update, process};
+use flatcut_mesh::TriMesh;
+
+/// Concatenates meshes, shifting each by `dx · k` along x.
+fn concat(parts: &[TriMesh], dx: f64) -> TriMesh {
+    let mut out = TriMesh::default();
+    for (k, m) in parts.iter().enumerate() {
+        let base = out.positions.len() as u32;
+        out.positions.extend(
+            m.positions
+                .iter()
+                .map(|p| [p[0] + dx * k as f64, p[1], p[2]]),
+        );
+        out.faces.extend(
+            m.faces
+                .iter()
+                .map(|f| [f[0] + base, f[1] + base, f[2] + base]),
+        );
+    }
+    out
+}
+
+#[test]
+fn pieces_are_processed_independently_and_deterministically() {
+    let cap = common::sphere_cap(10);
+    let saddle = common::saddle(9);
+    let strip = common::grid(2, 0.3, |x, _| x * x); // no interior vertex
+    let mesh = concat(&[cap.clone(), strip.clone(), saddle.clone()], 3.0);
+    let opts = ProcessOptions::default();
+    let all = process(&mesh, &opts).unwrap();
+    assert_eq!(all.report.pieces.len(), 3);
+    assert!(all.report.converged);
+    // Each piece equals the piece processed alone, bit for bit.
+    let alone_cap = process(&cap, &opts).unwrap();
+    // (Shifted as in the mesh: the saddle's solution is sensitive to round-off, so the
+    // comparison is made on the same coordinates.)
+    let mut shifted = saddle.clone();
+    for p in &mut shifted.positions {
+        p[0] += 6.0;
+    }
+    let alone_saddle = process(&shifted, &opts).unwrap();
+    let n0 = cap.vertex_count();
+    let n1 = strip.vertex_count();
+    for (v, p) in alone_cap.mesh.positions.iter().enumerate() {
+        assert_eq!(all.mesh.positions[v], *p);
+    }
+    for (v, p) in alone_saddle.mesh.positions.iter().enumerate() {
+        assert_eq!(all.mesh.positions[n0 + n1 + v], *p);
+    }
+    // The strip has no interior vertex: unchanged, and said so.
+    let strip_rep = &all.report.pieces[1];
+    assert_eq!(strip_rep.interior_vertices, 0);
+    assert!(
+        strip_rep
+            .messages
+            .iter()
+            .any(|m| m.contains("no interior vertex"))
+    );
+    assert_eq!(
+        &all.mesh.positions[n0..n0 + n1],
+        &mesh.positions[n0..n0 + n1]
+    );
+    // Report aggregation.
+    assert_eq!(
+        all.report.iterations,
+        all.report
+            .pieces
+            .iter()
+            .map(|p| p.iterations)
+            .max()
+            .unwrap()
+    );
+    assert_eq!(all.report.theta_err.len(), all.report.iterations + 1);
+    // Same result on 1 and 2 threads.
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let r = pool.install(|| process(&mesh, &opts).unwrap());
+        assert_eq!(r.mesh.positions, all.mesh.positions);
+    }
+}
+
+#[test]
+fn piece_with_holes_keeps_every_loop_fixed() {
+    let mut mesh = flatcut_mesh::shapes::patch_with_holes(2.0, 13);
+    for p in &mut mesh.positions {
+        p[2] = (4.0 - p[0] * p[0] - p[1] * p[1]).sqrt();
+    }
+    let r = process(&mesh, &ProcessOptions::default()).unwrap();
+    assert_eq!(r.report.pieces[0].boundary_loops, 3);
+    assert!(r.report.converged && r.report.final_theta_err <= 1e-9);
+    assert_eq!(r.report.folded_faces, 0);
+    assert_eq!(common::boundary_changed(&mesh, &r.mesh), 0);
+    assert!(r.report.max_displacement_mm > 0.0);
+}
+
+#[test]
+fn bad_input_gives_named_errors() {
+    let opts = ProcessOptions::default();
+    // Closed.
+    let sphere = flatcut_mesh::shapes::icosphere(1.0, 1);
+    assert!(matches!(
+        process(&sphere, &opts),
+        Err(FlattenableError::ClosedPiece { piece: 0 })
+    ));
+    // Non-manifold edge and vertex.
+    let fin = flatcut_mesh::shapes::non_manifold_fin();
+    assert!(matches!(
+        process(&fin, &opts),
+        Err(FlattenableError::NonManifoldEdge { .. })
+    ));
+    let bowtie = flatcut_mesh::shapes::non_manifold_bowtie();
+    let e = process(&bowtie, &opts).unwrap_err();
+    assert!(
+        matches!(e, FlattenableError::NonManifoldVertex { .. }),
+        "{e}"
+    );
+    // Degenerate face: collapse one interior face of a grid onto a point.
+    let mut degenerate = common::sphere_cap(6);
+    let [a, b, c] = degenerate.faces[12];
+    degenerate.positions[b as usize] = degenerate.positions[a as usize];
+    degenerate.positions[c as usize] = degenerate.positions[a as usize];
+    let e = process(&degenerate, &opts).unwrap_err();
+    assert!(matches!(e, FlattenableError::DegenerateFace { .. }), "{e}");
+    assert!(e.to_string().contains("face"));
+    // NaN.
+    let mut nan = common::sphere_cap(6);
+    nan.positions[7][1] = f64::NAN;
+    let e = process(&nan, &opts).unwrap_err();
+    assert!(matches!(e, FlattenableError::Mesh(_)));
+    assert!(e.to_string().contains("vertex 7"), "{e}");
+    // Inconsistent orientation.
+    let mut flipped = common::sphere_cap(6);
+    flipped.faces[10].swap(1, 2);
+    let e = process(&flipped, &opts).unwrap_err();
+    assert!(
+        matches!(e, FlattenableError::InconsistentOrientation { .. }),
+        "{e}"
+    );
+    // Options.
+    let cap = common::sphere_cap(6);
+    let bad = ProcessOptions {
+        weights: Some(vec![1.0; 3]),
+        ..Default::default()
+    };
+    assert!(matches!(
+        process(&cap, &bad),
+        Err(FlattenableError::InvalidOption { .. })
+    ));
+    let bad = ProcessOptions {
+        tolerance_rad: f64::NAN,
+        ..Default::default()
+    };
+    assert!(matches!(
+        process(&cap, &bad),
+        Err(FlattenableError::InvalidOption { .. })
+    ));
+    // Empty mesh: nothing to do.
+    let r = process(&TriMesh::default(), &opts).unwrap();
+    assert!(r.report.pieces.is_empty());
+}
+
+#[test]
+fn options_read_from_toml_like_json_with_documented_defaults() {
+    let o: ProcessOptions =
+        serde_json::from_str(r#"{"mode":"paper","update":"least-square"}"#).unwrap();
+    assert_eq!(o.mode, Mode::Paper);
+    assert_eq!(o.update, Update::LeastSquare);
+    assert_eq!(o.tolerance_rad, 1e-9);
+    assert!(serde_json::from_str::<ProcessOptions>(r#"{"bogus":1}"#).is_err());
+}
