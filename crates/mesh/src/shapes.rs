@@ -598,8 +598,11 @@ pub fn dress_form(m: &BodyMeasurements) -> TriMesh {
             .map(|i| {
                 let th = TAU * i as f64 / n as f64;
                 let (c, sn) = (th.cos(), th.sin());
-                let x = a * c.signum() * c.abs().powf(2.0 / p);
-                let z = b * sn.signum() * sn.abs().powf(2.0 / p);
+                // The point at polar angle θ, so that a vertex moves radially from ring to ring
+                // (a superellipse parameter would slide it sideways where the shape changes
+                // fast, over the shoulders, and shear the quads into slivers).
+                let r = ((c.abs() / a).powf(p) + (sn.abs() / b).powf(p)).powf(-1.0 / p);
+                let (x, z) = (r * c, r * sn);
                 // Bust bulges on the front, either side of the centre front (θ = π/2).
                 let mut g = 0.0;
                 for centre in [FRAC_PI_2 - 0.42, FRAC_PI_2 + 0.42] {

@@ -225,6 +225,13 @@ fn dress_form_matches_its_measurements() {
         (lo[1] - landmarks::BOTTOM * h).abs() < 1e-9
             && (hi[1] - landmarks::NECK_TOP * h).abs() < 1e-9
     );
+    // Triangle quality: measured minimum corner angle 11.5° (over the shoulders, where the
+    // rings shrink fastest); 5.7° before the rings were parameterised by polar angle.
+    let min_angle = flatcut_mesh::geometry::corner_angles(&form.positions, &form.faces)
+        .iter()
+        .flatten()
+        .fold(PI, |a, &b| a.min(b));
+    assert!(min_angle > 10f64.to_radians(), "{}", min_angle.to_degrees());
     let faces = form.face_count();
     assert!((5_000..60_000).contains(&faces), "{faces}");
 }
