@@ -79,20 +79,21 @@ pub fn saddle_grid(n: usize) -> TriMesh {
 /// flat disk spanning the cap boundary has area π R² sin²α against the cap's 2π R² (1 − cos α),
 /// a ratio (1 + cos α) / 2 = 0.933 for α = 30° (6.7 % less; with α = 60° it would be 25 %).
 ///
-/// The square `[−1, 1]²` is mapped onto the unit disk with the elliptical grid map
-/// `(x √(1 − y²/2), y √(1 − x²/2))` (smooth, boundary onto the circle), then the disk radius ρ
-/// onto the polar angle `ρ α` (azimuthal equidistant). The sphere is centred at the origin and
-/// the cap sits around the +z pole; normals point outward (up).
+/// The square `[−1, 1]²` is mapped onto the unit disk conformally
+/// ([`conformal_square_to_disk`]) and the disk onto the cap by the inverse stereographic
+/// projection (ρ ↦ polar angle 2 atan(ρ tan(α/2))), also conformal: every grid triangle keeps
+/// its shape up to scale (minimum corner angle 45° in the limit), except at the four square
+/// corners, where the 90° corner opens to the rim's 180° and is split into two 90° angles by
+/// the grid's diagonal. The sphere is centred at the origin and the cap sits around the +z
+/// pole; normals point outward (up).
 pub fn sphere_cap_grid(n: usize, cap_angle_rad: f64, radius_mm: f64) -> TriMesh {
-    let half = 0.5 * cap_angle_rad;
+    let t = (0.25 * cap_angle_rad).tan();
     let mut m = grid_patch(n, n, 2.0, |_, _| 0.0);
     for p in &mut m.positions {
-        let (x, y) = (p[0].clamp(-1.0, 1.0), p[1].clamp(-1.0, 1.0));
-        let u = x * (1.0 - 0.5 * y * y).sqrt();
-        let v = y * (1.0 - 0.5 * x * x).sqrt();
-        let rho = (u * u + v * v).sqrt().min(1.0);
+        let [u, v] = conformal_square_to_disk(p[0], p[1]);
+        let rho = u.hypot(v).min(1.0);
         let psi = v.atan2(u);
-        let phi = rho * half;
+        let phi = 2.0 * (rho * t).atan();
         *p = [
             radius_mm * phi.sin() * psi.cos(),
             radius_mm * phi.sin() * psi.sin(),
@@ -100,6 +101,51 @@ pub fn sphere_cap_grid(n: usize, cap_angle_rad: f64, radius_mm: f64) -> TriMesh 
         ];
     }
     m
+}
+
+/// The conformal map of the square `[−1, 1]²` onto the unit disk (Schwarz–Christoffel; Fong
+/// 2015, "Analytical methods for squaring the disc"):
+/// `w = (1 − i)/√2 · cn(K (1 + i)/2 · (x + i y) − K, 1/√2)`, with K = K(1/√2) the complete
+/// elliptic integral. Centre to centre, edges onto the circle, corners `(±1, ±1)` onto
+/// `(±1, ±1)/√2`. Inputs outside the square are clamped onto it.
+pub fn conformal_square_to_disk(x: f64, y: f64) -> [f64; 2] {
+    // K(k = 1/√2) = Γ(1/4)² / (4 √π).
+    const K: f64 = 1.854_074_677_301_372;
+    let (x, y) = (x.clamp(-1.0, 1.0), y.clamp(-1.0, 1.0));
+    let re = 0.5 * K * (x - y) - K;
+    let im = 0.5 * K * (x + y);
+    // cn(re + i im | m) by Abramowitz & Stegun 16.21.3; here m = m' = 1/2.
+    let (s, c, d) = jacobi_sn_cn_dn(re, 0.5);
+    let (s1, c1, d1) = jacobi_sn_cn_dn(im, 0.5);
+    let den = c1 * c1 + 0.5 * s * s * s1 * s1;
+    let (cr, ci) = (c * c1 / den, -s * d * s1 * d1 / den);
+    // Multiply by (1 − i)/√2.
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    [h * (cr + ci), h * (ci - cr)]
+}
+
+/// Jacobi elliptic functions sn, cn, dn of real `u` with parameter `m = k²` ∈ [0, 1), by the
+/// arithmetic–geometric mean (Abramowitz & Stegun 16.4).
+fn jacobi_sn_cn_dn(u: f64, m: f64) -> (f64, f64, f64) {
+    let mut a = vec![1.0f64];
+    let mut c = vec![m.sqrt()];
+    let mut b = (1.0 - m).sqrt();
+    while c.last().is_some_and(|&x| x.abs() > 1e-16) && a.len() < 32 {
+        let (an, bn) = (a[a.len() - 1], b);
+        a.push(0.5 * (an + bn));
+        c.push(0.5 * (an - bn));
+        b = (an * bn).sqrt();
+    }
+    let n = a.len() - 1;
+    let mut phi = (1u64 << n) as f64 * a[n] * u;
+    for k in (1..=n).rev() {
+        phi = 0.5 * (phi + (c[k] / a[k] * phi.sin()).asin());
+    }
+    let (sn, cn) = phi.sin_cos();
+    // dn > 0 for real u and m < 1; this form stays exact where cos φ₀ → 0 (sn = ±1), unlike
+    // A&S's cos φ₀ / cos(φ₁ − φ₀).
+    let dn = (1.0 - m * sn * sn).sqrt();
+    (sn, cn, dn)
 }
 
 /// Joins two rings of vertices (indices, each listed counter-clockwise around +z with the

@@ -129,19 +129,21 @@ fn cap_defect_error(n: usize) -> (f64, f64) {
 
 #[test]
 fn sphere_cap_defect_is_gaussian_curvature_times_mixed_area() {
-    // Measured: inner worst 4.3e-3, 1.1e-3, 2.7e-4 (second order); L1 3.6e-3, 9.5e-4, 4.5e-4.
+    // Measured (conformal grid map): inner worst 2.7e-2, 1.1e-2, 3.7e-3 (ratios 0.41, 0.34 per
+    // halving of h: the conformal map grades the triangle sizes, so pointwise convergence is
+    // between first and second order); L1 2.3e-2, 6.2e-3, 1.6e-3 (ratios 0.27, 0.25: second order).
     let (e1, e2, e3) = (
         cap_defect_error(9),
         cap_defect_error(17),
         cap_defect_error(33),
     );
-    assert!(e2.0 < 2e-3 && e2.1 < 2e-3, "{e1:?} {e2:?} {e3:?}");
+    assert!(e3.0 < 5e-3 && e3.1 < 2e-3, "{e1:?} {e2:?} {e3:?}");
     assert!(
-        e2.0 < 0.35 * e1.0 && e3.0 < 0.35 * e2.0,
+        e2.0 < 0.5 * e1.0 && e3.0 < 0.5 * e2.0,
         "{e1:?} {e2:?} {e3:?}"
     );
     assert!(
-        e2.1 < 0.6 * e1.1 && e3.1 < 0.6 * e2.1,
+        e2.1 < 0.35 * e1.1 && e3.1 < 0.35 * e2.1,
         "{e1:?} {e2:?} {e3:?}"
     );
     // Summed over the icosphere, defect = 4π and K·ΣA = 4π·(area/4πR²): a second identity.
