@@ -4,6 +4,7 @@
 
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::traits::ComplexField;
 use faer::{MatMut, Side};
 
 /// The pattern of the lower triangle of an n×n SPD matrix, with its symbolic Cholesky.
@@ -16,10 +17,25 @@ pub(crate) struct SpdPattern {
     llt: SymbolicLlt<usize>,
 }
 
-/// A numeric factorisation of an [`SpdPattern`].
-pub(crate) struct SpdFactor {
-    llt: Llt<usize, f64>,
+/// A numeric factorisation of an [`SpdPattern`], real symmetric or complex Hermitian.
+pub(crate) struct SpdFactor<T: ComplexField = f64> {
+    llt: Llt<usize, T>,
     n: usize,
+}
+
+/// Values a factorisation accepts: f64 and faer's c64.
+pub(crate) trait Value: ComplexField + Copy {
+    fn finite(&self) -> bool;
+}
+impl Value for f64 {
+    fn finite(&self) -> bool {
+        self.is_finite()
+    }
+}
+impl Value for faer::c64 {
+    fn finite(&self) -> bool {
+        self.re.is_finite() && self.im.is_finite()
+    }
 }
 
 impl SpdPattern {
@@ -40,8 +56,8 @@ impl SpdPattern {
 
     /// Factorises the matrix with these values (one per pair given to [`SpdPattern::new`]).
     /// `None` if the matrix is not numerically positive definite.
-    pub(crate) fn factor(&self, values: &[f64]) -> Option<SpdFactor> {
-        if values.len() != self.entries || values.iter().any(|v| !v.is_finite()) {
+    pub(crate) fn factor<T: Value>(&self, values: &[T]) -> Option<SpdFactor<T>> {
+        if values.len() != self.entries || values.iter().any(|v| !v.finite()) {
             return None;
         }
         let mat =
@@ -51,14 +67,14 @@ impl SpdPattern {
     }
 }
 
-impl SpdFactor {
+impl<T: Value> SpdFactor<T> {
     /// Solves A x = b in place for `k` right-hand sides stored column-major in `rhs`
     /// (`rhs.len() == n·k`). Returns false if the solution is not finite.
-    pub(crate) fn solve_in_place(&self, rhs: &mut [f64], k: usize) -> bool {
+    pub(crate) fn solve_in_place(&self, rhs: &mut [T], k: usize) -> bool {
         use faer::linalg::solvers::Solve;
         debug_assert_eq!(rhs.len(), self.n * k);
         let m = MatMut::from_column_major_slice_mut(rhs, self.n, k);
         self.llt.solve_in_place(m);
-        rhs.iter().all(|v| v.is_finite())
+        rhs.iter().all(|v| v.finite())
     }
 }
