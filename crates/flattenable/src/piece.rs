@@ -30,8 +30,9 @@ pub struct Piece {
     guard: Guard,
 }
 
-/// Rejects folded geometry: a face whose normal turned by more than 90° against the input,
-/// or a corner newly below the angle floor.
+/// Rejects folded geometry: a face whose normal turned by 90° or more against the input,
+/// or a corner newly below the angle floor (a corner already below the floor in the input
+/// may shrink to half its input value, so that scan slivers do not freeze the piece).
 struct Guard {
     normals0: Vec<[f64; 3]>,
     angles0: Vec<[f64; 3]>,
@@ -75,8 +76,13 @@ impl Piece {
     /// Number of folded faces at `positions` (see [`PieceReport::folded_faces`]); non-finite
     /// positions count every face.
     pub fn folded_faces(&self, positions: &[[f64; 3]]) -> usize {
+        self.offending_faces(positions).len()
+    }
+
+    /// The folded faces at `positions` (every face if a position is not finite).
+    pub fn offending_faces(&self, positions: &[[f64; 3]]) -> Vec<usize> {
         if positions.iter().flatten().any(|c| !c.is_finite()) {
-            return self.faces.len();
+            return (0..self.faces.len()).collect();
         }
         let floor = self.guard.floor_rad;
         self.faces
@@ -93,9 +99,13 @@ impl Piece {
                     return true;
                 }
                 let a = flatcut_mesh::geometry::triangle_angles(p0, p1, p2);
-                (0..3).any(|k| a[k] < floor && a[k] < self.guard.angles0[*f][k])
+                let a0 = self.guard.angles0[*f];
+                // Newly below the floor; a corner the input already had below it may not
+                // shrink under half its input value.
+                (0..3).any(|k| a[k] < if a0[k] >= floor { floor } else { 0.5 * a0[k] })
             })
-            .count()
+            .map(|(f, _)| f)
+            .collect()
     }
 
     /// Positions with the interior vertices replaced.

@@ -37,6 +37,11 @@ const MU_MIN: f64 = 1e-13;
 const MU_MAX: f64 = 1e8;
 /// Iterations without a 10 % gain of the best ‖θ − 2π‖ that count as a stall.
 const STALL_WINDOW: usize = 60;
+/// Factor by which a vertex of a face that would fold is stiffened, the largest stiffness,
+/// and how many stiffening rounds one iteration may try before raising the damping.
+const STIFFEN: f64 = 10.0;
+const STIFF_MAX: f64 = 1e4;
+const MAX_STIFFEN: usize = 6;
 /// Accept a trial when ρ exceeds this (any real decrease of the merit).
 const RHO_ACCEPT: f64 = 1e-4;
 
@@ -85,6 +90,8 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
         }
         Update::Direct => None,
     };
+    // Extra per-vertex stiffness (≥ 1) earned by vertices of faces that would fold.
+    let mut stiff = vec![1.0f64; n];
     let mut mu = MU_START;
     let limit = opts.iteration_limit();
     report.stop_reason = "iteration limit".into();
@@ -103,17 +110,24 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
             break;
         }
         let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
-        let metric = Metric {
-            scale: &scale,
-            normals: normals.as_deref(),
-            tangential,
-        };
-        layout.normal_matrix(&grad, &metric, &mut normal);
-        let mean_diag = layout.mean_diagonal(&normal).max(f64::MIN_POSITIVE);
         let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
         let interior = piece.interior_of(&pos);
         let mut accepted = None;
+        let mut stiffened = 0usize;
+        let mut assembled = false;
+        let mut mean_diag = 0.0;
         while mu <= MU_MAX {
+            let eff: Vec<f64> = scale.iter().zip(&stiff).map(|(s, k)| s / (k * k)).collect();
+            let metric = Metric {
+                scale: &eff,
+                normals: normals.as_deref(),
+                tangential,
+            };
+            if !assembled {
+                layout.normal_matrix(&grad, &metric, &mut normal);
+                mean_diag = layout.mean_diagonal(&normal).max(f64::MIN_POSITIVE);
+                assembled = true;
+            }
             let d = match least_norm_step(layout, &grad, &metric, &normal, &b, mu * mean_diag) {
                 Ok(d) => d,
                 Err(_) => {
@@ -130,7 +144,25 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
             let filtered = ls.as_ref().map(|u| u.apply(layout, &v_star));
             let next = filtered.as_ref().unwrap_or(&v_star);
             let trial = piece.with_interior(&pos, next);
-            let folded = piece.folded_faces(&trial);
+            let offending = piece.offending_faces(&trial);
+            let folded = offending.len();
+            if folded > 0 && ls.is_none() && stiffened < MAX_STIFFEN {
+                // A face would fold: its corners and normal depend only on its three
+                // vertices, so stiffen those (a larger weight in the metric, Eq. 14) and
+                // re-solve at the same damping rather than shrinking the whole step.
+                for &f in &offending {
+                    for &v in &piece.faces[f] {
+                        let i = layout.index_of[v as usize];
+                        if i != flatcut_mesh::INVALID {
+                            stiff[i as usize] = (stiff[i as usize] * STIFFEN).min(STIFF_MAX);
+                        }
+                    }
+                }
+                stiffened += 1;
+                assembled = false;
+                report.rejected_steps += 1;
+                continue;
+            }
             let f_trial = if folded == 0 {
                 layout.theta(&trial, &piece.faces, &mut trial_theta);
                 Piece::errors(&trial_theta).1
@@ -176,6 +208,10 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
             break;
         };
         pos = trial;
+        // Stiffness relaxes again so that it does not freeze a region for good.
+        for k in &mut stiff {
+            *k = (*k / STIFFEN.sqrt()).max(1.0);
+        }
         layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
         (err, f) = Piece::errors(&theta);
         report.iterations += 1;
