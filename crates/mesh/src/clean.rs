@@ -146,32 +146,49 @@ fn weld(positions: &[[f64; 3]], used: &[bool], tol: f64) -> Vec<u32> {
         }
     } else {
         // Spatial hash with cells of the tolerance: close points are in the same or a
-        // neighbouring cell. Cell coordinates are clamped so huge coordinates cannot overflow.
+        // neighbouring cell. Points are sorted by cell, and each cell is compared with itself
+        // and its 13 "forward" neighbours, so every close pair is tested once and there is one
+        // hash lookup per cell and neighbour rather than per point. Cell coordinates are
+        // clamped so huge coordinates cannot overflow.
         let cell = |p: [f64; 3]| p.map(|c| (c / tol).floor().clamp(-1e15, 1e15) as i64);
-        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-        for v in 0..n {
-            if used[v] {
-                grid.entry(cell(positions[v])).or_default().push(v as u32);
+        let mut keyed: Vec<([i64; 3], u32)> = (0..n)
+            .filter(|&v| used[v])
+            .map(|v| (cell(positions[v]), v as u32))
+            .collect();
+        keyed.sort_unstable();
+        let mut ranges: HashMap<[i64; 3], (usize, usize)> = HashMap::new();
+        let mut i = 0;
+        while i < keyed.len() {
+            let mut j = i;
+            while j < keyed.len() && keyed[j].0 == keyed[i].0 {
+                j += 1;
             }
+            ranges.insert(keyed[i].0, (i, j));
+            i = j;
         }
         let tol2 = tol * tol;
-        for v in 0..n {
-            if !used[v] {
-                continue;
+        let close =
+            |a: u32, b: u32| norm2(sub(positions[a as usize], positions[b as usize])) <= tol2;
+        let forward: Vec<[i64; 3]> = (-1..=1)
+            .flat_map(|dx| (-1..=1).flat_map(move |dy| (-1..=1).map(move |dz| [dx, dy, dz])))
+            .filter(|o| *o > [0, 0, 0])
+            .collect();
+        for (&c, &(s0, e0)) in &ranges {
+            for x in s0..e0 {
+                for y in x + 1..e0 {
+                    if close(keyed[x].1, keyed[y].1) {
+                        union(&mut parent, keyed[x].1, keyed[y].1);
+                    }
+                }
             }
-            let c = cell(positions[v]);
-            for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let Some(others) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
-                            continue;
-                        };
-                        for &w in others {
-                            if w < v as u32
-                                && norm2(sub(positions[v], positions[w as usize])) <= tol2
-                            {
-                                union(&mut parent, w, v as u32);
-                            }
+            for o in &forward {
+                let Some(&(s1, e1)) = ranges.get(&[c[0] + o[0], c[1] + o[1], c[2] + o[2]]) else {
+                    continue;
+                };
+                for x in s0..e0 {
+                    for y in s1..e1 {
+                        if close(keyed[x].1, keyed[y].1) {
+                            union(&mut parent, keyed[x].1, keyed[y].1);
                         }
                     }
                 }

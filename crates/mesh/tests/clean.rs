@@ -366,3 +366,64 @@ fn options_read_from_text_with_documented_defaults() {
     let json = serde_json::to_value(&report).unwrap();
     assert_eq!(json["output_faces"], 8);
 }
+
+#[test]
+fn tolerance_welding_matches_brute_force_components() {
+    // 600 points in a 10 mm box, tolerance 0.6 mm: many chains across cell borders.
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut rnd = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let positions: Vec<[f64; 3]> = (0..600)
+        .map(|_| [10.0 * rnd() - 5.0, 10.0 * rnd(), 3.0 * rnd()])
+        .collect();
+    let faces: Vec<[u32; 3]> = (0..200).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    let m = TriMesh::new(positions.clone(), faces).unwrap();
+    let tol = 0.6;
+    let opts = CleanOptions {
+        weld_tolerance_mm: tol,
+        drop_degenerate: false,
+        drop_duplicate_faces: false,
+        orient: false,
+        ..Default::default()
+    };
+    let (_, report, map) = clean(&m, &opts).unwrap();
+    // Brute force: components of the "closer than tol" graph, smallest index first.
+    let n = positions.len();
+    let mut comp: Vec<usize> = (0..n).collect();
+    loop {
+        let mut changed = false;
+        for a in 0..n {
+            for b in 0..n {
+                let d = positions[a]
+                    .iter()
+                    .zip(&positions[b])
+                    .map(|(x, y)| (x - y) * (x - y))
+                    .sum::<f64>();
+                if d <= tol * tol && comp[b] < comp[a] {
+                    comp[a] = comp[b];
+                    changed = true;
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let groups = comp.iter().collect::<HashSet<_>>().len();
+    assert!(
+        groups < n - 50 && groups > 20,
+        "{groups}: the test should have many merges"
+    );
+    assert_eq!(report.welded_vertices, n - groups);
+    for a in 0..n {
+        assert_eq!(map.vertex_target[a], map.vertex_target[comp[a]]);
+        assert_eq!(
+            map.vertex_source[map.vertex_target[a] as usize].idx(),
+            comp[a]
+        );
+    }
+}
