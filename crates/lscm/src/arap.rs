@@ -116,22 +116,24 @@ pub fn arap(p: &mut PieceFlattening, opts: &ArapOptions) -> Result<ArapReport, L
     let pattern = SpdPattern::new(m, &pairs).ok_or_else(|| numerical.clone())?;
     let factor = pattern.factor(&vals).ok_or_else(|| numerical.clone())?;
 
-    let energy = |uv: &[[f64; 2]]| -> f64 {
-        tris.par_iter()
-            .map(|t| {
-                let r = rotation(t, uv);
-                arap_triangle_energy(t, uv, r)
-            })
-            .sum()
+    // The ARAP energy at u with its optimal rotations R(u): E(u, R(u)). Each iteration's
+    // rotations serve both its energy and the next global step.
+    let local = |uv: &[[f64; 2]]| -> (Vec<(f64, f64)>, f64) {
+        let rots: Vec<(f64, f64)> = tris.par_iter().map(|t| rotation(t, uv)).collect();
+        let e = tris
+            .par_iter()
+            .zip(&rots)
+            .map(|(t, &r)| arap_triangle_energy(t, uv, r))
+            .sum();
+        (rots, e)
     };
-    let energy_before = energy(&p.uv);
+    let (mut rots, energy_before) = local(&p.uv);
     let mut e_prev = energy_before;
     let mut iterations = 0;
     let mut rhs = vec![0.0; 2 * m];
     let mut uv = p.uv.clone();
     let u_fixed = p.uv[fixed];
     while iterations < opts.max_iterations {
-        let rots: Vec<(f64, f64)> = tris.par_iter().map(|t| rotation(t, &uv)).collect();
         rhs.iter_mut().for_each(|x| *x = 0.0);
         for (t, &(c, s)) in tris.iter().zip(&rots) {
             for k in 0..3 {
@@ -167,11 +169,12 @@ pub fn arap(p: &mut PieceFlattening, opts: &ArapOptions) -> Result<ArapReport, L
             }
         }
         iterations += 1;
-        let e = energy(&next);
+        let (next_rots, e) = local(&next);
         if e > e_prev {
             break;
         }
         uv = next;
+        rots = next_rots;
         let done = e_prev - e <= opts.relative_tolerance * e_prev;
         e_prev = e;
         if done {
