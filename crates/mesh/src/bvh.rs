@@ -297,16 +297,18 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// Builds the trees over all faces and all referenced vertices of `mesh`
-    /// (O(n log n); the mesh must be valid, see [`TriMesh::validate`]).
+    /// Builds the trees over all faces and all referenced vertices of `mesh` in O(n log n).
+    /// The mesh should pass [`TriMesh::validate`]; faces with an out-of-range index are left
+    /// out rather than panicking.
     pub fn build(mesh: &TriMesh) -> Bvh {
+        let nv = mesh.positions.len();
         let tri = |f: &[u32; 3]| f.map(|i| mesh.positions[i as usize]);
-        let (mut lo, mut hi) = (
-            Vec::with_capacity(mesh.faces.len()),
-            Vec::with_capacity(mesh.faces.len()),
-        );
-        for f in &mesh.faces {
-            let t = tri(f);
+        let ids: Vec<u32> = (0..mesh.faces.len() as u32)
+            .filter(|&f| mesh.faces[f as usize].iter().all(|&i| (i as usize) < nv))
+            .collect();
+        let (mut lo, mut hi) = (Vec::with_capacity(ids.len()), Vec::with_capacity(ids.len()));
+        for &f in &ids {
+            let t = tri(&mesh.faces[f as usize]);
             let mut l = t[0];
             let mut h = t[0];
             for p in &t[1..] {
@@ -318,7 +320,10 @@ impl Bvh {
             lo.push(l);
             hi.push(h);
         }
-        let faces = Tree::build(&lo, &hi);
+        let mut faces = Tree::build(&lo, &hi);
+        for o in &mut faces.order {
+            *o = ids[*o as usize];
+        }
         let tris = faces
             .order
             .iter()
@@ -723,5 +728,11 @@ mod tests {
             .unwrap();
         assert!(h.t > 0.8 && h.t <= 1.0);
         assert_eq!(bvh.face_count(), 80);
+        // A face with an out-of-range index is skipped, not a panic.
+        let mut bad = shapes::icosphere(1.0, 1);
+        bad.faces.push([0, 1, 999]);
+        let bvh = Bvh::build(&bad);
+        assert_eq!(bvh.face_count(), 80);
+        assert!(bvh.closest_point([0.0, 0.0, 2.0]).unwrap().face.0 < 80);
     }
 }
