@@ -22,7 +22,7 @@
 use std::f64::consts::TAU;
 
 use crate::laplacian::LeastSquareUpdate;
-use crate::least_norm::{Metric, least_norm_step};
+use crate::least_norm::Metric;
 use crate::options::{ProcessOptions, Update};
 use crate::piece::Piece;
 use crate::report::PieceReport;
@@ -42,6 +42,8 @@ const STALL_WINDOW: usize = 60;
 const STIFFEN: f64 = 10.0;
 const STIFF_MAX: f64 = 1e4;
 const MAX_STIFFEN: usize = 6;
+/// Second-order corrections tried per trial step.
+const MAX_CORRECTIONS: usize = 3;
 /// Accept a trial when ρ exceeds this (any real decrease of the merit).
 const RHO_ACCEPT: f64 = 1e-4;
 
@@ -125,16 +127,29 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
             };
             if !assembled {
                 layout.normal_matrix(&grad, &metric, &mut normal);
+                // μ scales the mean diagonal: a uniform shift keeps the large-μ limit the
+                // steepest-descent step of ‖b − A d‖² (Marquardt's per-row scaling does not,
+                // and was measured to stall at once on the 100×100 cap).
                 mean_diag = layout.mean_diagonal(&normal).max(f64::MIN_POSITIVE);
                 assembled = true;
             }
-            let d = match least_norm_step(layout, &grad, &metric, &normal, &b, mu * mean_diag) {
-                Ok(d) => d,
-                Err(_) => {
-                    mu = (mu * 10.0).max(MU_MIN);
-                    report.rejected_steps += 1;
-                    continue;
-                }
+            let Ok(factor) = layout.factor(&normal, mu * mean_diag, None) else {
+                mu = (mu * 10.0).max(MU_MIN);
+                report.rejected_steps += 1;
+                continue;
+            };
+            // d = G Aᵀ (A G Aᵀ + μ m I)⁻¹ rhs with this factor.
+            let solve = |rhs: &[f64]| -> Option<Vec<[f64; 3]>> {
+                let mut x = rhs.to_vec();
+                layout.solve(&factor, &mut x, 1);
+                x.iter()
+                    .all(|v| v.is_finite())
+                    .then(|| layout.step_from_multipliers(&grad, &metric, &x))
+            };
+            let Some(d) = solve(&b) else {
+                mu = (mu * 10.0).max(MU_MIN);
+                report.rejected_steps += 1;
+                continue;
             };
             let v_star: Vec<[f64; 3]> = interior
                 .iter()
@@ -143,7 +158,7 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
                 .collect();
             let filtered = ls.as_ref().map(|u| u.apply(layout, &v_star));
             let next = filtered.as_ref().unwrap_or(&v_star);
-            let trial = piece.with_interior(&pos, next);
+            let mut trial = piece.with_interior(&pos, next);
             let offending = piece.offending_faces(&trial);
             let folded = offending.len();
             if folded > 0 && ls.is_none() && stiffened < MAX_STIFFEN {
@@ -163,12 +178,40 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
                 report.rejected_steps += 1;
                 continue;
             }
-            let f_trial = if folded == 0 {
+            let mut f_trial = if folded == 0 {
                 layout.theta(&trial, &piece.faces, &mut trial_theta);
                 Piece::errors(&trial_theta).1
             } else {
                 f64::INFINITY
             };
+            // Second-order corrections (as in SQP against the Maratos effect): the residual
+            // left at the trial point, solved with the same factor (a solve costs a small
+            // fraction of a factorisation), pulls the point back onto the curved constraint
+            // set θ = 2π. Kept while each one at least halves the merit.
+            if folded == 0 && ls.is_none() {
+                for _ in 0..MAX_CORRECTIONS {
+                    let r: Vec<f64> = trial_theta.iter().map(|t| TAU - t).collect();
+                    let Some(dc) = solve(&r) else { break };
+                    let mut cand = trial.clone();
+                    for (i, &p) in layout.interior.iter().enumerate() {
+                        for k in 0..3 {
+                            cand[p as usize][k] += dc[i][k];
+                        }
+                    }
+                    if piece.folded_faces(&cand) > 0 {
+                        break;
+                    }
+                    let mut cand_theta = vec![0.0; n];
+                    layout.theta(&cand, &piece.faces, &mut cand_theta);
+                    let f_cand = Piece::errors(&cand_theta).1;
+                    if f_cand.is_nan() || f_cand >= 0.5 * f_trial {
+                        break;
+                    }
+                    trial = cand;
+                    trial_theta = cand_theta;
+                    f_trial = f_cand;
+                }
+            }
             if ls.is_some() {
                 if f_trial.is_finite() && f_trial < 0.9 * f {
                     accepted = Some((trial, f_trial));
