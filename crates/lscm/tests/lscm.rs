@@ -311,3 +311,50 @@ fn coincident_positions_of_distinct_pins_are_refused() {
         LscmError::CoincidentPins { .. }
     ));
 }
+
+mod property {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(32))]
+        /// Any planar piece, jittered and placed anywhere in 3D, comes back congruent from
+        /// LSCM alone, never mirrored.
+        #[test]
+        fn planar_pieces_are_congruent(
+            jitter in proptest::collection::vec((-0.3f64..0.3, -0.3f64..0.3), 48),
+            axis in (-1.0f64..1.0, -1.0f64..1.0, 0.1f64..1.0),
+            angle in -3.0f64..3.0,
+            offset in (-500.0f64..500.0, -500.0f64..500.0, -500.0f64..500.0),
+            scale in 0.5f64..50.0,
+        ) {
+            let (nx, ny) = (8usize, 6usize);
+            let mut mesh = common::grid(nx, ny, |u, v| [u * (nx - 1) as f64, v * (ny - 1) as f64, 0.0]);
+            for (k, p) in mesh.positions.iter_mut().enumerate() {
+                let (i, j) = (k % nx, k / nx);
+                // Interior points move; the jitter stays below half a cell (no fold).
+                if i > 0 && j > 0 && i < nx - 1 && j < ny - 1 {
+                    p[0] += jitter[k % 48].0;
+                    p[1] += jitter[k % 48].1;
+                }
+            }
+            // Rodrigues rotation about `axis`, then scale and offset.
+            let n = norm([axis.0, axis.1, axis.2]);
+            let a = [axis.0 / n, axis.1 / n, axis.2 / n];
+            let (s, c) = angle.sin_cos();
+            for p in &mut mesh.positions {
+                let q = *p;
+                let axq = cross(a, q);
+                let d = dot(a, q);
+                let r: Vec<f64> = (0..3).map(|k| q[k] * c + axq[k] * s + a[k] * d * (1.0 - c)).collect();
+                *p = [scale * r[0] + offset.0, scale * r[1] + offset.1, scale * r[2] + offset.2];
+            }
+            let flat = lscm(&mesh, &LscmOptions::default()).unwrap();
+            let topo = Topology::build(&mesh).unwrap();
+            let d = distortion(&mesh, &topo, &flat.uv);
+            prop_assert!(d.max_edge_strain < 1e-9, "strain {}", d.max_edge_strain);
+            prop_assert!(d.e_r.max < 1e-9 && d.e_h.max < 1e-9);
+            prop_assert_eq!(d.flipped_faces, 0);
+        }
+    }
+}
