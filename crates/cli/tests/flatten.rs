@@ -45,7 +45,10 @@ fn cylinder_obj(nu: usize, nv: usize) -> (String, Vec<[f64; 3]>, Vec<[usize; 3]>
     (s, p, f)
 }
 
-fn read_obj(path: &Path) -> (Vec<[f64; 3]>, Vec<[f64; 2]>, Vec<[usize; 3]>) {
+/// `v`, `vt` and `f` (0-based) lines of an OBJ file.
+type Obj = (Vec<[f64; 3]>, Vec<[f64; 2]>, Vec<[usize; 3]>);
+
+fn read_obj(path: &Path) -> Obj {
     let text = std::fs::read_to_string(path).unwrap();
     let (mut v, mut vt, mut f) = (Vec::new(), Vec::new(), Vec::new());
     for line in text.lines() {
