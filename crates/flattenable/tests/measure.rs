@@ -207,3 +207,68 @@ fn probe_targets() {
         }
     }
 }
+
+/// The convergence table of docs/algorithms/flattenable.md.
+#[test]
+#[ignore]
+fn table() {
+    let row = |name: &str, mode: &str, m: &flatcut_mesh::TriMesh, opts: &ProcessOptions| {
+        let t = std::time::Instant::now();
+        let (r, ok) = match process(m, opts) {
+            Ok(r) => (r, "yes"),
+            Err(FlattenableError::NotConverged { partial, .. }) => (*partial, "no"),
+            Err(e) => {
+                println!("| {name} | {mode} | error: {e} |");
+                return;
+            }
+        };
+        let p = &r.report.pieces[0];
+        println!(
+            "| {name} | {mode} | {ok} | {} | {:.1e} | {:.1e} | {:.1} | {:+.2} | {:.4} | {:.4} | {} | {:.2} |",
+            r.report.iterations,
+            r.report.final_theta_err,
+            r.report.final_theta_rms,
+            p.min_angle_deg,
+            r.report.area_change_percent,
+            r.report.rms_displacement_mm,
+            r.report.max_displacement_mm,
+            r.report.folded_faces,
+            t.elapsed().as_secs_f64()
+        );
+    };
+    let iso = ProcessOptions {
+        tangential_penalty: 1.0,
+        ..Default::default()
+    };
+    for n in [12usize, 25, 50, 100] {
+        for (kind, m) in [
+            ("cap", common::sphere_cap(n)),
+            ("saddle", common::saddle(n)),
+        ] {
+            let name = format!("{kind} {n}×{n}");
+            if n == 12 {
+                row(
+                    &name,
+                    "paper direct",
+                    &m,
+                    &ProcessOptions::paper(Update::Direct),
+                );
+                row(
+                    &name,
+                    "paper LS cotan",
+                    &m,
+                    &ProcessOptions::paper(Update::LeastSquare),
+                );
+                let uni = ProcessOptions {
+                    laplacian: Laplacian::Uniform,
+                    ..ProcessOptions::paper(Update::LeastSquare)
+                };
+                row(&name, "paper LS uniform", &m, &uni);
+            }
+            row(&name, "robust (default)", &m, &ProcessOptions::default());
+            if n <= 50 {
+                row(&name, "robust, isotropic metric", &m, &iso);
+            }
+        }
+    }
+}
