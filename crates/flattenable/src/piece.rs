@@ -35,8 +35,9 @@ pub struct Piece {
 /// may shrink to half its input value, so that scan slivers do not freeze the piece).
 struct Guard {
     normals0: Vec<[f64; 3]>,
-    angles0: Vec<[f64; 3]>,
-    floor_rad: f64,
+    /// cos of the smallest angle each corner may take: the floor, or half the input angle
+    /// for a corner already below the floor. Compared as cosines (no atan2 in the hot loop).
+    cos_limit: Vec<[f64; 3]>,
 }
 
 impl Piece {
@@ -56,10 +57,13 @@ impl Piece {
             .iter()
             .map(|&p| weights_local[p as usize])
             .collect();
+        let floor = min_angle_deg.to_radians();
         let guard = Guard {
             normals0: face_normals(&local.positions, &local.faces),
-            angles0: corner_angles(&local.positions, &local.faces),
-            floor_rad: min_angle_deg.to_radians(),
+            cos_limit: corner_angles(&local.positions, &local.faces)
+                .iter()
+                .map(|a| a.map(|a0| if a0 >= floor { floor } else { 0.5 * a0 }.cos()))
+                .collect(),
         };
         Ok(Self {
             index,
@@ -84,25 +88,27 @@ impl Piece {
         if positions.iter().flatten().any(|c| !c.is_finite()) {
             return (0..self.faces.len()).collect();
         }
-        let floor = self.guard.floor_rad;
         self.faces
             .iter()
             .enumerate()
             .filter(|(f, face)| {
-                let (p0, p1, p2) = (
+                let p = [
                     positions[face[0] as usize],
                     positions[face[1] as usize],
                     positions[face[2] as usize],
-                );
-                let n = cross(sub(p1, p0), sub(p2, p0));
+                ];
+                let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
                 if dot(n, self.guard.normals0[*f]) <= 0.0 {
                     return true;
                 }
-                let a = flatcut_mesh::geometry::triangle_angles(p0, p1, p2);
-                let a0 = self.guard.angles0[*f];
-                // Newly below the floor; a corner the input already had below it may not
-                // shrink under half its input value.
-                (0..3).any(|k| a[k] < if a0[k] >= floor { floor } else { 0.5 * a0[k] })
+                // Corner k below its limit ⇔ cos(corner) > cos(limit) (cos falls on [0, π]);
+                // a zero-length edge gives NaN and counts as folded.
+                (0..3).any(|k| {
+                    let u = sub(p[(k + 1) % 3], p[k]);
+                    let w = sub(p[(k + 2) % 3], p[k]);
+                    let c = dot(u, w) / (dot(u, u) * dot(w, w)).sqrt();
+                    c.is_nan() || c > self.guard.cos_limit[*f][k]
+                })
             })
             .map(|(f, _)| f)
             .collect()
