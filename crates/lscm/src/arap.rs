@@ -16,7 +16,7 @@ use crate::LscmError;
 use crate::lscm::PieceFlattening;
 use crate::metrics::max_edge_strain;
 use crate::sparse::SpdPattern;
-use crate::triangle::{closest_rotation, local_frame};
+use crate::triangle::{closest_rotation, local_frame, signed_area2};
 
 /// Options of [`arap`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -50,7 +50,13 @@ pub struct ArapReport {
     pub energy_after: f64,
     /// Max |ℓ2D/ℓ3D − 1| after.
     pub max_edge_strain: f64,
+    /// The last iteration had to shorten its step because the full step would have flipped
+    /// more triangles than the start had (ARAP's energy does not prevent folds).
+    pub stopped_by_fold: bool,
 }
+
+/// Step halvings tried before an iteration gives up (a step of 2⁻¹⁰ of the global step).
+const MAX_HALVINGS: usize = 10;
 
 /// Per-triangle data fixed by the 3D shape.
 struct Tri {
@@ -61,8 +67,10 @@ struct Tri {
 }
 
 /// Refines `p.uv` in place by local–global ARAP iterations, starting from the current
-/// coordinates (normally LSCM). The result is kept only where it lowers the energy; the
-/// piece's first pin keeps its position.
+/// coordinates (normally LSCM). A step is kept only if it lowers the energy and flips no
+/// more triangles than the start had, shortened by halving if needed (ARAP itself does not
+/// prevent folds: on igl_camelhead, whose LSCM map shrinks the neck to a few percent of its
+/// area, unguarded ARAP folded 748 faces).
 pub fn arap(p: &mut PieceFlattening, opts: &ArapOptions) -> Result<ArapReport, LscmError> {
     let piece = &p.piece;
     let n = piece.positions.len();
@@ -127,6 +135,16 @@ pub fn arap(p: &mut PieceFlattening, opts: &ArapOptions) -> Result<ArapReport, L
             .sum();
         (rots, e)
     };
+    let flipped = |uv: &[[f64; 2]]| -> usize {
+        tris.par_iter()
+            .filter(|t| {
+                let [a, b, c] = t.v.map(|v| uv[v as usize]);
+                signed_area2(a, b, c) <= 0.0
+            })
+            .count()
+    };
+    let flipped_start = flipped(&p.uv);
+    let mut stopped_by_fold = false;
     let (mut rots, energy_before) = local(&p.uv);
     let mut e_prev = energy_before;
     let mut iterations = 0;
@@ -161,21 +179,45 @@ pub fn arap(p: &mut PieceFlattening, opts: &ArapOptions) -> Result<ArapReport, L
         if !factor.solve_in_place(&mut rhs, 2) {
             return Err(numerical);
         }
-        let mut next = uv.clone();
-        for v in 0..n {
-            let k = index[v];
-            if k != u32::MAX {
-                next[v] = [rhs[k as usize], rhs[m + k as usize]];
-            }
-        }
+        let target: Vec<[f64; 2]> = (0..n)
+            .map(|v| match index[v] {
+                u32::MAX => uv[v],
+                k => [rhs[k as usize], rhs[m + k as usize]],
+            })
+            .collect();
         iterations += 1;
-        let (next_rots, e) = local(&next);
-        if e > e_prev {
+        // The global step's direction is a descent direction of E(u, R(u)) (R is optimal at
+        // the current u), so a step length t ≤ 1 that lowers the energy and adds no fold
+        // exists unless the iteration has converged: halve t up to MAX_HALVINGS times.
+        let mut accepted = None;
+        let mut t = 1.0;
+        for _ in 0..=MAX_HALVINGS {
+            let trial: Vec<[f64; 2]> = uv
+                .iter()
+                .zip(&target)
+                .map(|(a, b)| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
+                .collect();
+            if flipped(&trial) <= flipped_start {
+                let (trial_rots, e) = local(&trial);
+                if e < e_prev {
+                    accepted = Some((trial, trial_rots, e));
+                    break;
+                }
+            } else {
+                stopped_by_fold = true;
+            }
+            t *= 0.5;
+        }
+        let Some((next, next_rots, e)) = accepted else {
             break;
+        };
+        if t == 1.0 {
+            stopped_by_fold = false;
         }
         uv = next;
         rots = next_rots;
-        let done = e_prev - e <= opts.relative_tolerance * e_prev;
+        // A shortened step says nothing about convergence: only a full step may stop.
+        let done = t == 1.0 && e_prev - e <= opts.relative_tolerance * e_prev;
         e_prev = e;
         if done {
             break;
@@ -187,6 +229,7 @@ pub fn arap(p: &mut PieceFlattening, opts: &ArapOptions) -> Result<ArapReport, L
         energy_before,
         energy_after: e_prev,
         max_edge_strain: max_edge_strain(&p.piece.positions, &p.piece.local_faces, &p.uv),
+        stopped_by_fold,
     })
 }
 
