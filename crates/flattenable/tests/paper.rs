@@ -64,3 +64,35 @@ fn paper_direct_update_on_saddle_reports_its_folds() {
         assert!(r.report.messages.iter().any(|m| m.contains("folded")));
     }
 }
+
+#[test]
+fn paper_mode_on_a_partly_flat_piece_fails_cleanly() {
+    // At a flat interior vertex θ = 2π to first order under any motion, so its row of A is
+    // zero and A Aᵀ is singular: the undamped paper step is undefined there. The result must be
+    // a clear error (or a finite result), never a panic; robust mode handles the piece.
+    let mesh = common::grid(11, 1.0, |x, y| (0.25 - x * x - y * y).max(0.0));
+    let e = process(&mesh, &ProcessOptions::paper(Update::Direct)).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            flatcut_flattenable::FlattenableError::Singular { iteration: 0, .. }
+        ),
+        "{e}"
+    );
+    let r = process(&mesh, &ProcessOptions::default());
+    match r {
+        Ok(r) => {
+            eprintln!("robust: converged, {} iterations", r.report.iterations);
+            assert_eq!(r.report.folded_faces, 0)
+        }
+        Err(flatcut_flattenable::FlattenableError::NotConverged {
+            partial,
+            best_theta_err,
+            ..
+        }) => {
+            eprintln!("robust: not converged, best {best_theta_err:.2e}");
+            assert_eq!(partial.report.folded_faces, 0)
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
