@@ -68,8 +68,8 @@ fn paper_direct_update_on_saddle_reports_its_folds() {
 #[test]
 fn paper_mode_on_a_partly_flat_piece_fails_cleanly() {
     // At a flat interior vertex θ = 2π to first order under any motion, so its row of A is
-    // zero and A Aᵀ is singular: the undamped paper step is undefined there. The result must be
-    // a clear error (or a finite result), never a panic; robust mode handles the piece.
+    // zero and A Aᵀ is singular: the undamped paper step is undefined there. The result is the
+    // clear `Singular` error, never a panic; robust mode handles the piece.
     let mesh = common::grid(11, 1.0, |x, y| (0.25 - x * x - y * y).max(0.0));
     let e = process(&mesh, &ProcessOptions::paper(Update::Direct)).unwrap_err();
     assert!(
