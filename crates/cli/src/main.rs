@@ -12,6 +12,7 @@ macro_rules! outln {
     }};
 }
 
+mod clean;
 mod demo;
 mod flatten;
 mod info;
@@ -34,6 +35,8 @@ struct Cli {
 enum Command {
     /// Report counts, topology, defects, size and curvature of a mesh file.
     Info(info::InfoArgs),
+    /// Repair a scan: weld, drop degenerate/duplicate/unreferenced elements, orient, keep components.
+    Clean(clean::CleanArgs),
     /// Run the main job on the embedded default: a generated dress form, written and analysed.
     Demo(demo::DemoArgs),
     /// Flatten open pieces to a true-size 2D pattern (OBJ) and measure the distortion.
@@ -50,6 +53,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Info(args) => info::run(args),
+        Command::Clean(args) => clean::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),

@@ -157,7 +157,6 @@ fn flattens_a_cylinder_to_true_size_with_metrics() {
 }
 
 #[test]
-#[ignore = "enable once the io OBJ writer emits vt lines from attributes.texcoords"]
 fn writes_texture_coordinates() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("cyl.obj");

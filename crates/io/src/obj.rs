@@ -299,8 +299,9 @@ fn parse(bytes: &[u8], path: &Path, final_count: Option<usize>) -> Result<Parsed
     })
 }
 
-/// Writes `v` lines (shortest round-trip decimals), then `f` lines (1-based), with a `g`
-/// line whenever the face label changes.
+/// Writes `v` lines (shortest round-trip decimals), `vt` lines when the mesh has texcoords
+/// (a flattening, in the same units as `v`), then `f` lines (1-based, `v/vt` when texcoords
+/// are present), with a `g` line whenever the face label changes.
 pub(crate) fn write(w: &mut dyn Write, mesh: &TriMesh) -> io::Result<()> {
     writeln!(
         w,
@@ -310,6 +311,16 @@ pub(crate) fn write(w: &mut dyn Write, mesh: &TriMesh) -> io::Result<()> {
     )?;
     for p in &mesh.positions {
         writeln!(w, "v {:?} {:?} {:?}", p[0], p[1], p[2])?;
+    }
+    let texcoords = mesh
+        .attributes
+        .texcoords
+        .as_ref()
+        .filter(|t| t.len() == mesh.positions.len());
+    if let Some(t) = texcoords {
+        for uv in t {
+            writeln!(w, "vt {:?} {:?}", uv[0], uv[1])?;
+        }
     }
     let labels = mesh
         .face_labels
@@ -341,7 +352,12 @@ pub(crate) fn write(w: &mut dyn Write, mesh: &TriMesh) -> io::Result<()> {
                 last = Some(id);
             }
         }
-        writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
+        let [a, b, c] = [t[0] + 1, t[1] + 1, t[2] + 1];
+        if texcoords.is_some() {
+            writeln!(w, "f {a}/{a} {b}/{b} {c}/{c}")?;
+        } else {
+            writeln!(w, "f {a} {b} {c}")?;
+        }
     }
     Ok(())
 }

@@ -268,3 +268,43 @@ fn in_memory_encoding_matches_file_and_reads_back() {
     }
     assert!(flatcut_io::write_mesh_to_vec(&m, Format::Gltf, &WriteOptions::default()).is_err());
 }
+
+#[test]
+fn obj_writes_texcoords_as_vt_and_v_slash_vt_faces() {
+    let mut mesh = flatcut_mesh::TriMesh::new(
+        vec![[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 20.0, 0.0]],
+        vec![[0, 1, 2]],
+    )
+    .unwrap();
+    mesh.attributes.texcoords = Some(vec![[0.0, 0.0], [10.5, 0.25], [0.1, 20.0]]);
+    let bytes = flatcut_io::write_mesh_to_vec(
+        &mesh,
+        flatcut_io::Format::Obj,
+        &flatcut_io::WriteOptions::default(),
+    )
+    .unwrap();
+    let text = String::from_utf8(bytes.clone()).unwrap();
+    let vt: Vec<&str> = text.lines().filter(|l| l.starts_with("vt ")).collect();
+    assert_eq!(vt, ["vt 0.0 0.0", "vt 10.5 0.25", "vt 0.1 20.0"]);
+    assert!(text.lines().any(|l| l == "f 1/1 2/2 3/3"), "{text}");
+    // Our own reader takes the v/vt form back with the same positions and faces.
+    let back = flatcut_io::read_mesh_from_bytes(
+        &bytes,
+        flatcut_io::Format::Obj,
+        "vt.obj",
+        flatcut_io::Units::Mm,
+    )
+    .unwrap();
+    assert_eq!(back.mesh.positions, mesh.positions);
+    assert_eq!(back.mesh.faces, mesh.faces);
+    // Written in cm, texcoords are converted like positions.
+    let opts = flatcut_io::WriteOptions {
+        units: flatcut_io::Units::Cm,
+        ..Default::default()
+    };
+    let text = String::from_utf8(
+        flatcut_io::write_mesh_to_vec(&mesh, flatcut_io::Format::Obj, &opts).unwrap(),
+    )
+    .unwrap();
+    assert!(text.lines().any(|l| l == "vt 1.05 0.025"), "{text}");
+}

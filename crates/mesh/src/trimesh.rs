@@ -205,11 +205,18 @@ impl TriMesh {
             })
     }
 
-    /// Multiplies every position by `factor` (unit conversion).
+    /// Multiplies every position (and texcoord) by `factor` (unit conversion).
     pub fn scale(&mut self, factor: f64) {
         for p in &mut self.positions {
             for c in p.iter_mut() {
                 *c *= factor;
+            }
+        }
+        // Texcoords of a flattening are lengths too (mm), so a unit change scales them alike.
+        if let Some(t) = &mut self.attributes.texcoords {
+            for uv in t.iter_mut() {
+                uv[0] *= factor;
+                uv[1] *= factor;
             }
         }
     }
