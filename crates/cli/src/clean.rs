@@ -22,9 +22,9 @@ pub struct CleanArgs {
     pub input: PathBuf,
     /// Output mesh file; its extension picks the format. Must differ from the input.
     pub output: PathBuf,
-    /// Units of the input's coordinates: mm, cm, dm, m or in. The output is in mm.
-    #[arg(long, default_value = "mm", value_parser = crate::util::parse_units)]
-    pub units: Units,
+    /// Units of the input: mm, cm, dm, m or in (default: m for .gltf/.glb, as glTF fixes, else mm). The output is in mm.
+    #[arg(long, value_parser = crate::util::parse_units)]
+    pub units: Option<Units>,
     /// Weld vertices closer than this distance in mm (0: only exactly coincident ones).
     #[arg(long, default_value_t = 0.0)]
     pub weld_mm: f64,
@@ -48,7 +48,8 @@ pub fn run(args: &CleanArgs) -> anyhow::Result<()> {
         );
     }
     refuse_overwrite(&args.input, &args.output)?;
-    let loaded = flatcut_io::read_mesh(&args.input, args.units)?;
+    let loaded =
+        flatcut_io::read_mesh(&args.input, crate::util::units_for(&args.input, args.units))?;
     let opts = CleanOptions {
         weld_tolerance_mm: args.weld_mm,
         keep: match args.keep {

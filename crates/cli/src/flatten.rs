@@ -24,9 +24,9 @@ pub struct FlattenArgs {
     pub input: PathBuf,
     /// Output mesh, normally .obj: `v x y 0` (mm), the same faces, and `vt` coordinates.
     pub output: PathBuf,
-    /// Units of the input's coordinates: mm, cm, dm, m or in. The output is in mm.
-    #[arg(long, default_value = "mm", value_parser = crate::util::parse_units)]
-    pub units: Units,
+    /// Units of the input: mm, cm, dm, m or in (default: m for .gltf/.glb, as glTF fixes, else mm). The output is in mm.
+    #[arg(long, value_parser = crate::util::parse_units)]
+    pub units: Option<Units>,
     /// `lscm` (conformal; sizes drift on curved pieces) or `lscm+arap` (as close to true size
     /// as the piece allows: an isometry on a developable piece).
     #[arg(long, default_value = "lscm+arap", value_parser = parse_method)]
@@ -112,7 +112,8 @@ struct Metrics<'a> {
 
 /// Runs `flatcut flatten`.
 pub fn run(args: &FlattenArgs) -> anyhow::Result<()> {
-    let loaded = flatcut_io::read_mesh(&args.input, args.units)?;
+    let loaded =
+        flatcut_io::read_mesh(&args.input, crate::util::units_for(&args.input, args.units))?;
     let mesh = &loaded.mesh;
     let input = args.input.display().to_string();
     let topo = Topology::build(mesh).with_context(|| input.clone())?;

@@ -11,9 +11,9 @@ use flatcut_mesh::{Topology, mesh_info};
 pub struct InfoArgs {
     /// Mesh file (.obj, .ply, .stl, .gltf, .glb).
     pub mesh: PathBuf,
-    /// Units of the file's coordinates: mm, cm, dm, m or in. Lengths are reported in mm.
-    #[arg(long, default_value = "mm", value_parser = crate::util::parse_units)]
-    pub units: Units,
+    /// Units of the file: mm, cm, dm, m or in (default: m for .gltf/.glb, as glTF fixes, else mm). Lengths are reported in mm.
+    #[arg(long, value_parser = crate::util::parse_units)]
+    pub units: Option<Units>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -21,7 +21,7 @@ pub struct InfoArgs {
 
 /// Runs `flatcut info`.
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
-    let loaded = flatcut_io::read_mesh(&args.mesh, args.units)?;
+    let loaded = flatcut_io::read_mesh(&args.mesh, crate::util::units_for(&args.mesh, args.units))?;
     let mesh = &loaded.mesh;
     let topo = Topology::build(mesh).with_context(|| format!("{}", args.mesh.display()))?;
     let info = mesh_info(mesh, &topo);
@@ -32,7 +32,9 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
             obj.insert("file".into(), args.mesh.display().to_string().into());
             obj.insert(
                 "units".into(),
-                format!("{:?}", args.units).to_lowercase().into(),
+                format!("{:?}", crate::util::units_for(&args.mesh, args.units))
+                    .to_lowercase()
+                    .into(),
             );
             obj.insert("warnings".into(), loaded.source.warnings.clone().into());
         }

@@ -2,7 +2,8 @@
 //! by the least-norm method (crates/flattenable), moving interior vertices as little as
 //! possible and never the boundary.
 //!
-//! OUT is written in the input's units (`--units`), any format flatcut_io writes; as .glb
+//! OUT is written in `--units` when given, else in its format's convention (m for .glb, mm
+//! otherwise), any format flatcut_io writes; as .glb
 //! its vertices are coloured by |θ − 2π| (0 on the boundary). The report gives every number
 //! in millimetres.
 
@@ -22,9 +23,9 @@ pub struct ProcessArgs {
     pub input: PathBuf,
     /// Output mesh (.obj, .ply, .stl, .glb; .glb carries |θ − 2π| as vertex colours).
     pub output: PathBuf,
-    /// Units of the input's coordinates (mm, cm, dm, m, in); OUT is written in the same.
-    #[arg(long, default_value = "mm", value_parser = crate::util::parse_units)]
-    pub units: Units,
+    /// Units of the input: mm, cm, dm, m or in (default: m for .gltf/.glb, else mm); OUT is written in --units when given, else in its own format's convention (m for .glb, mm otherwise).
+    #[arg(long, value_parser = crate::util::parse_units)]
+    pub units: Option<Units>,
     /// `robust` (damped steps, fold guards, polish to --tolerance) or `paper` (as printed).
     #[arg(long, default_value = "robust", value_parser = parse_mode)]
     pub mode: Mode,
@@ -215,8 +216,9 @@ fn text_report(r: &ProcessReport) -> String {
 
 /// Runs `flatcut process`.
 pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
-    let loaded = flatcut_io::read_mesh(&args.input, args.units)
-        .with_context(|| format!("cannot read {}", args.input.display()))?;
+    let loaded =
+        flatcut_io::read_mesh(&args.input, crate::util::units_for(&args.input, args.units))
+            .with_context(|| format!("cannot read {}", args.input.display()))?;
     let mesh = loaded.mesh;
     let weights = match &args.weights {
         Some(p) => Some(read_weights(p, mesh.vertex_count())?),

@@ -5,6 +5,12 @@ use std::path::Path;
 use anyhow::Context;
 use flatcut_io::Units;
 
+/// The units a file is read in: `--units` when given, else metres for glTF/GLB (the glTF
+/// specification fixes metres) and millimetres for every other format.
+pub fn units_for(path: &Path, given: Option<Units>) -> Units {
+    given.unwrap_or(flatcut_io::Format::from_extension(path).map_or(Units::Mm, Units::default_for))
+}
+
 /// Parses `--units` for clap, listing the accepted values on error.
 pub fn parse_units(s: &str) -> Result<Units, String> {
     s.parse::<Units>().map_err(|e| e.to_string())

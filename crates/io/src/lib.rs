@@ -231,8 +231,10 @@ pub struct WriteOptions {
     /// The format; `None` (default) chooses by the path's extension.
     pub format: Option<Format>,
     /// The unit to write coordinates in; positions (mm) are divided by its factor.
-    /// Default `Mm` (bit-exact).
-    pub units: Units,
+    /// Default `None` = the format's convention, [`Units::default_for`]: metres for GLB (the
+    /// glTF specification fixes metres, so viewers show the true size), millimetres (bit-exact)
+    /// for the others.
+    pub units: Option<Units>,
     /// GLB only: the scalar value range mapped onto the colour ramp when the mesh has
     /// `attributes.scalar` but no colours. Default `None` = min..max of the scalar.
     pub scalar_range: Option<(f64, f64)>,
@@ -251,7 +253,7 @@ pub struct WriteOptions {
 /// [`IoError::Mesh`] if the mesh is invalid (NaN never reaches a file), [`IoError::Io`].
 pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<(), IoError> {
     let format = writable(opts.format.or_else(|| Format::from_extension(path)), path)?;
-    let mesh = prepare(mesh, opts.units, path)?;
+    let mesh = prepare(mesh, opts.units.unwrap_or(Units::default_for(format)), path)?;
     atomic::write_atomically(path, |w| encode(w, &mesh, format, opts))
 }
 
@@ -264,7 +266,11 @@ pub fn write_mesh_to_vec(
 ) -> Result<Vec<u8>, IoError> {
     let name = PathBuf::from(format!("<memory>.{}", format.name()));
     let format = writable(Some(format), &name)?;
-    let mesh = prepare(mesh, opts.units, &name)?;
+    let mesh = prepare(
+        mesh,
+        opts.units.unwrap_or(Units::default_for(format)),
+        &name,
+    )?;
     let mut out = Vec::new();
     encode(&mut out, &mesh, format, opts).map_err(|source| IoError::Io { path: name, source })?;
     Ok(out)

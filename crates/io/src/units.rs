@@ -27,6 +27,16 @@ pub enum Units {
 }
 
 impl Units {
+    /// The units a format's coordinates are in when nobody says otherwise: metres for glTF
+    /// and GLB (fixed by the glTF specification), millimetres for OBJ, PLY and STL (which
+    /// carry no units; scans and CAD exports are mostly millimetres).
+    pub fn default_for(format: crate::Format) -> Units {
+        match format {
+            crate::Format::Gltf | crate::Format::Glb => Units::M,
+            crate::Format::Obj | crate::Format::Ply | crate::Format::Stl => Units::Mm,
+        }
+    }
+
     /// How many millimetres one unit is.
     pub fn factor_to_mm(self) -> f64 {
         match self {

@@ -51,7 +51,15 @@ fn bits(p: &[[f64; 3]]) -> Vec<[u64; 3]> {
 
 fn roundtrip(mesh: &TriMesh, dir: &Path, name: &str) -> TriMesh {
     let path = dir.join(name);
-    write_mesh(&path, mesh, &WriteOptions::default()).unwrap();
+    write_mesh(
+        &path,
+        mesh,
+        &WriteOptions {
+            units: Some(Units::Mm),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     read_mesh(&path, Units::Mm).unwrap().mesh
 }
 
@@ -152,7 +160,15 @@ fn stl_is_exact_to_f32_and_welded() {
     let dir = tempfile::tempdir().unwrap();
     let m = awkward_mesh();
     let path = dir.path().join("m.stl");
-    write_mesh(&path, &m, &WriteOptions::default()).unwrap();
+    write_mesh(
+        &path,
+        &m,
+        &WriteOptions {
+            units: Some(Units::Mm),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let s = read_mesh(&path, Units::Mm).unwrap();
     assert_eq!(s.source.faces_read, m.faces.len());
     assert_eq!(s.source.vertices_read, 3 * m.faces.len());
@@ -183,7 +199,7 @@ fn units_on_write_and_read_cancel() {
         &path,
         &m,
         &WriteOptions {
-            units: Units::Cm,
+            units: Some(Units::Cm),
             ..Default::default()
         },
     )
@@ -210,9 +226,16 @@ fn failed_writes_leave_no_partial_file() {
     // A NaN position is refused before anything is written.
     let mut bad = awkward_mesh();
     bad.positions[3][1] = f64::NAN;
-    let err = write_mesh(&path, &bad, &WriteOptions::default())
-        .unwrap_err()
-        .to_string();
+    let err = write_mesh(
+        &path,
+        &bad,
+        &WriteOptions {
+            units: Some(Units::Mm),
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
     assert!(
         err.contains("keep.obj") && err.contains("vertex 3"),
         "{err}"
@@ -222,7 +245,17 @@ fn failed_writes_leave_no_partial_file() {
     big.positions[0][0] = 1e300;
     let glb = dir.path().join("keep.glb");
     std::fs::write(&glb, b"original").unwrap();
-    assert!(write_mesh(&glb, &big, &WriteOptions::default()).is_err());
+    assert!(
+        write_mesh(
+            &glb,
+            &big,
+            &WriteOptions {
+                units: Some(Units::Mm),
+                ..Default::default()
+            }
+        )
+        .is_err()
+    );
     assert_eq!(std::fs::read(&path).unwrap(), b"original");
     assert_eq!(std::fs::read(&glb).unwrap(), b"original");
     assert_eq!(
@@ -235,7 +268,10 @@ fn failed_writes_leave_no_partial_file() {
         let err = write_mesh(
             &dir.path().join(name),
             &awkward_mesh(),
-            &WriteOptions::default(),
+            &WriteOptions {
+                units: Some(Units::Mm),
+                ..Default::default()
+            },
         )
         .unwrap_err();
         assert!(err.to_string().contains(".glb"), "{err}");
@@ -259,14 +295,40 @@ fn in_memory_encoding_matches_file_and_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let m = awkward_mesh();
     for format in [Format::Obj, Format::Ply, Format::Stl, Format::Glb] {
-        let bytes = flatcut_io::write_mesh_to_vec(&m, format, &WriteOptions::default()).unwrap();
+        let bytes = flatcut_io::write_mesh_to_vec(
+            &m,
+            format,
+            &WriteOptions {
+                units: Some(Units::Mm),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let path = dir.path().join(format!("m.{}", format.name()));
-        write_mesh(&path, &m, &WriteOptions::default()).unwrap();
+        write_mesh(
+            &path,
+            &m,
+            &WriteOptions {
+                units: Some(Units::Mm),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), bytes, "{format:?}");
         let back = flatcut_io::read_mesh_from_bytes(&bytes, format, "mem", Units::Mm).unwrap();
         assert_eq!(back.mesh.faces.len(), m.faces.len());
     }
-    assert!(flatcut_io::write_mesh_to_vec(&m, Format::Gltf, &WriteOptions::default()).is_err());
+    assert!(
+        flatcut_io::write_mesh_to_vec(
+            &m,
+            Format::Gltf,
+            &WriteOptions {
+                units: Some(Units::Mm),
+                ..Default::default()
+            }
+        )
+        .is_err()
+    );
 }
 
 #[test]
@@ -280,7 +342,10 @@ fn obj_writes_texcoords_as_vt_and_v_slash_vt_faces() {
     let bytes = flatcut_io::write_mesh_to_vec(
         &mesh,
         flatcut_io::Format::Obj,
-        &flatcut_io::WriteOptions::default(),
+        &flatcut_io::WriteOptions {
+            units: Some(flatcut_io::Units::Mm),
+            ..Default::default()
+        },
     )
     .unwrap();
     let text = String::from_utf8(bytes.clone()).unwrap();
@@ -299,7 +364,7 @@ fn obj_writes_texcoords_as_vt_and_v_slash_vt_faces() {
     assert_eq!(back.mesh.faces, mesh.faces);
     // Written in cm, texcoords are converted like positions.
     let opts = flatcut_io::WriteOptions {
-        units: flatcut_io::Units::Cm,
+        units: Some(flatcut_io::Units::Cm),
         ..Default::default()
     };
     let text = String::from_utf8(
@@ -307,4 +372,43 @@ fn obj_writes_texcoords_as_vt_and_v_slash_vt_faces() {
     )
     .unwrap();
     assert!(text.lines().any(|l| l == "vt 1.05 0.025"), "{text}");
+}
+
+#[test]
+fn glb_is_written_in_metres_by_default_and_read_back_to_millimetres() {
+    // glTF fixes metres: a 1680 mm dress form must be 1.68 units tall in any viewer.
+    let m = TriMesh::new(
+        vec![[0.0, 0.0, 0.0], [1680.0, 0.0, 0.0], [0.0, 250.5, 0.0]],
+        vec![[0, 1, 2]],
+    )
+    .unwrap();
+    let bytes = flatcut_io::write_mesh_to_vec(&m, Format::Glb, &WriteOptions::default()).unwrap();
+    let in_metres =
+        flatcut_io::read_mesh_from_bytes(&bytes, Format::Glb, "m.glb", Units::Mm).unwrap();
+    assert_eq!(in_metres.mesh.positions[1][0], 1.68f32 as f64);
+    let back = flatcut_io::read_mesh_from_bytes(
+        &bytes,
+        Format::Glb,
+        "m.glb",
+        Units::default_for(Format::Glb),
+    )
+    .unwrap();
+    for (a, b) in back.mesh.positions.iter().zip(&m.positions) {
+        for k in 0..3 {
+            assert!(
+                (a[k] - b[k]).abs() <= 1e-7 * b[k].abs().max(1.0),
+                "{a:?} vs {b:?}"
+            );
+        }
+    }
+    // OBJ keeps millimetres by default, bit-exact.
+    let obj = flatcut_io::write_mesh_to_vec(&m, Format::Obj, &WriteOptions::default()).unwrap();
+    let back = flatcut_io::read_mesh_from_bytes(
+        &obj,
+        Format::Obj,
+        "m.obj",
+        Units::default_for(Format::Obj),
+    )
+    .unwrap();
+    assert_eq!(back.mesh.positions, m.positions);
 }
