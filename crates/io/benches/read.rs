@@ -1,5 +1,6 @@
 //! Read throughput on the 428k-triangle MakeHuman body (FLATCUT_DATA/mh_body_subdiv2.obj) as
 //! OBJ, and the same mesh written at setup as binary PLY, binary STL and GLB.
+//! Also `info`: read + `Topology::build` + `mesh_info`, what `flatcut info` does per file.
 //! Run: `FLATCUT_DATA=... cargo bench -p flatcut_io --bench read`
 
 #![allow(clippy::unwrap_used)]
@@ -27,7 +28,15 @@ fn bench_read(c: &mut Criterion) {
     let mut files = vec![obj.clone()];
     for ext in ["ply", "stl", "glb"] {
         let p = tmp.path().join(format!("body.{ext}"));
-        write_mesh(&p, &mesh, &WriteOptions::default()).unwrap();
+        write_mesh(
+            &p,
+            &mesh,
+            &WriteOptions {
+                units: Some(Units::Mm),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         files.push(p);
     }
     let mut group = c.benchmark_group("read_mh_body_subdiv2");
@@ -37,6 +46,19 @@ fn bench_read(c: &mut Criterion) {
         group.throughput(Throughput::Bytes(size));
         let name = path.extension().unwrap().to_string_lossy().into_owned();
         group.bench_function(name, |b| b.iter(|| read_mesh(path, Units::Mm).unwrap()));
+    }
+    group.finish();
+    let mut group = c.benchmark_group("info_mh_body_subdiv2");
+    group.sample_size(10);
+    for path in &files {
+        let name = path.extension().unwrap().to_string_lossy().into_owned();
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let mesh = read_mesh(path, Units::Mm).unwrap().mesh;
+                let topo = flatcut_mesh::Topology::build(&mesh).unwrap();
+                flatcut_mesh::mesh_info(&mesh, &topo)
+            })
+        });
     }
     group.finish();
 }
