@@ -1,7 +1,7 @@
 //! LSCM and LSCM + isometric refinement on generated grids (~2k, 20k, 200k faces) and, when
 //! FLATCUT_DATA is set, on the real disk meshes.
 //!
-//! `cargo bench -p flatcut_lscm --bench lscm`
+//! `cargo bench -p flatcut_lscm --bench lscm` (`FLATCUT_BENCH_LARGE=1` adds 2M faces)
 //! (`FLATCUT_DATA=/work/shared/meshes cargo bench -p flatcut_lscm --bench lscm` adds the
 //! real meshes). Timings include topology, component split and checks, as a caller sees them.
 
@@ -12,31 +12,10 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use flatcut_lscm::{FlattenOptions, LscmOptions, Method, flatten, lscm};
 use flatcut_mesh::TriMesh;
 
-/// A saddle height field z = (x² − y²)/(2R) over a 200 mm square, n × n vertices
-/// (2 (n − 1)² faces).
+/// A saddle height field z = (x² − y²)/(2R), R = 200 mm, over a 200 mm square, n × n
+/// vertices (2 (n − 1)² faces).
 fn saddle(n: usize) -> TriMesh {
-    let mut positions = Vec::with_capacity(n * n);
-    for j in 0..n {
-        for i in 0..n {
-            let x = 200.0 * i as f64 / (n - 1) as f64 - 100.0;
-            let y = 200.0 * j as f64 / (n - 1) as f64 - 100.0;
-            positions.push([x, y, (x * x - y * y) / 400.0]);
-        }
-    }
-    let mut faces = Vec::with_capacity(2 * (n - 1) * (n - 1));
-    let id = |i: usize, j: usize| (i + n * j) as u32;
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            faces.push([a, b, c]);
-            faces.push([a, c, d]);
-        }
-    }
-    TriMesh {
-        positions,
-        faces,
-        ..Default::default()
-    }
+    flatcut_mesh::shapes::grid_patch(n, n, 200.0, |x, y| (x * x - y * y) / 400.0)
 }
 
 fn bench_pair(c: &mut Criterion, name: &str, mesh: &TriMesh, samples: usize) {
@@ -57,7 +36,12 @@ fn bench_pair(c: &mut Criterion, name: &str, mesh: &TriMesh, samples: usize) {
 }
 
 fn generated(c: &mut Criterion) {
-    for (n, samples) in [(33, 50), (101, 20), (317, 10)] {
+    let mut sizes = vec![(33, 50), (101, 20), (317, 10)];
+    // 2M faces takes minutes per sample set: only on request.
+    if std::env::var_os("FLATCUT_BENCH_LARGE").is_some() {
+        sizes.push((1001, 10));
+    }
+    for (n, samples) in sizes {
         let mesh = saddle(n);
         bench_pair(
             c,
