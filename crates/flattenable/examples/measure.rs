@@ -1,8 +1,10 @@
-//! Measurements behind docs/algorithms/flattenable.md (ignored; run with `--ignored
-//! --nocapture`, env N = grid size, W = cap|saddle, PAPER/LS/TAN to add variants).
+//! Measurements behind docs/algorithms/flattenable.md: `cargo run --release -p
+//! flatcut_flattenable --example measure -- table` (or probe with env N = grid size,
+//! W = cap|saddle, PAPER/LS/TAN to add variants; probe_weights; probe_targets).
 
 #![allow(clippy::unwrap_used)]
 
+#[path = "../tests/common/mod.rs"]
 mod common;
 use flatcut_flattenable::*;
 
@@ -37,8 +39,6 @@ fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
     );
 }
 
-#[test]
-#[ignore]
 fn probe() {
     let n: usize = std::env::var("N")
         .ok()
@@ -111,8 +111,6 @@ fn probe() {
     }
 }
 
-#[test]
-#[ignore]
 fn probe_weights() {
     let mesh = common::sphere_cap(12);
     let row: Vec<u32> = (1..11).map(|i| 6 * 12 + i).collect();
@@ -155,8 +153,6 @@ fn probe_weights() {
     }
 }
 
-#[test]
-#[ignore]
 fn probe_targets() {
     let cases: Vec<(String, flatcut_mesh::TriMesh)> = vec![
         ("cap12".into(), common::sphere_cap(12)),
@@ -209,8 +205,6 @@ fn probe_targets() {
 }
 
 /// The convergence table of docs/algorithms/flattenable.md.
-#[test]
-#[ignore]
 fn table() {
     let row = |name: &str, mode: &str, m: &flatcut_mesh::TriMesh, opts: &ProcessOptions| {
         let t = std::time::Instant::now();
@@ -269,6 +263,22 @@ fn table() {
             if n <= 50 {
                 row(&name, "robust, isotropic metric", &m, &iso);
             }
+        }
+    }
+}
+
+/// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets]`
+/// prints the measurement tables of docs/algorithms/flattenable.md (a tool, not a test: it asserts
+/// nothing; the tests assert the numbers that must hold).
+fn main() {
+    match std::env::args().nth(1).as_deref().unwrap_or("table") {
+        "probe" => probe(),
+        "probe_weights" => probe_weights(),
+        "probe_targets" => probe_targets(),
+        "table" => table(),
+        other => {
+            eprintln!("unknown table '{other}': use table, probe, probe_weights or probe_targets");
+            std::process::exit(2);
         }
     }
 }
