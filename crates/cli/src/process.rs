@@ -14,7 +14,7 @@ use flatcut_flattenable::{
     FlattenableError, Laplacian, Mode, ProcessOptions, ProcessReport, Processed, Target, Update,
 };
 use flatcut_io::{Units, WriteOptions};
-use flatcut_mesh::{Topology, TriMesh, VertexId};
+use flatcut_mesh::{Topology, TriMesh};
 
 /// Arguments of `flatcut process`.
 #[derive(clap::Args, Debug)]
@@ -133,18 +133,10 @@ fn read_weights(path: &std::path::Path, vertices: usize) -> anyhow::Result<Vec<f
 
 /// |θ − 2π| per vertex (0 on the boundary and for unused vertices), for the GLB colours.
 fn defect_field(mesh: &TriMesh) -> Vec<f64> {
-    let theta = flatcut_mesh::geometry::angle_sums(&mesh.positions, &mesh.faces);
     match Topology::build(mesh) {
-        Ok(topo) => theta
+        Ok(topo) => flatcut_mesh::geometry::angle_defects(&mesh.positions, &mesh.faces, &topo)
             .iter()
-            .enumerate()
-            .map(|(v, t)| {
-                if topo.is_interior_vertex(VertexId(v as u32)) {
-                    (t - std::f64::consts::TAU).abs()
-                } else {
-                    0.0
-                }
-            })
+            .map(|d| d.map_or(0.0, f64::abs))
             .collect(),
         Err(_) => vec![0.0; mesh.vertex_count()],
     }
