@@ -114,6 +114,19 @@ impl Tree {
 
 /// Squared distance from `p` to the box `[lo, hi]` (0 inside).
 #[inline]
+/// Pushes the two children of internal node `n` so that the one whose box is nearer to `p`
+/// is popped first (a nearest-query visits it first and prunes more of the other).
+fn push_children_nearer_last(nodes: &[Node], n: &Node, p: [f64; 3], stack: &mut Vec<usize>) {
+    let (l, r) = (n.first as usize, n.first as usize + 1);
+    if box_dist2(p, nodes[l].lo, nodes[l].hi) <= box_dist2(p, nodes[r].lo, nodes[r].hi) {
+        stack.push(r);
+        stack.push(l);
+    } else {
+        stack.push(l);
+        stack.push(r);
+    }
+}
+
 fn box_dist2(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> f64 {
     let mut d = 0.0;
     for k in 0..3 {
@@ -390,19 +403,7 @@ impl Bvh {
                     }
                 }
             } else {
-                // Visit the nearer child first (pushed last).
-                let (l, r) = (n.first as usize, n.first as usize + 1);
-                let (dl, dr) = (
-                    box_dist2(p, nodes[l].lo, nodes[l].hi),
-                    box_dist2(p, nodes[r].lo, nodes[r].hi),
-                );
-                if dl <= dr {
-                    stack.push(r);
-                    stack.push(l);
-                } else {
-                    stack.push(l);
-                    stack.push(r);
-                }
+                push_children_nearer_last(nodes, &n, p, &mut stack);
             }
         }
         best.map(|(d2, slot, point, barycentric)| ClosestPoint {
@@ -490,18 +491,7 @@ impl Bvh {
                     }
                 }
             } else {
-                let (l, r) = (n.first as usize, n.first as usize + 1);
-                let (dl, dr) = (
-                    box_dist2(p, nodes[l].lo, nodes[l].hi),
-                    box_dist2(p, nodes[r].lo, nodes[r].hi),
-                );
-                if dl <= dr {
-                    stack.push(r);
-                    stack.push(l);
-                } else {
-                    stack.push(l);
-                    stack.push(r);
-                }
+                push_children_nearer_last(nodes, &n, p, &mut stack);
             }
         }
         best.map(|slot| (VertexId(self.vertices.order[slot]), best_d2.sqrt()))
