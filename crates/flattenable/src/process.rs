@@ -240,25 +240,7 @@ fn run_piece(
 ) -> Result<PieceOutcome, FlattenableError> {
     let start = Instant::now();
     // Local numbering in order of first use, so the piece is the same whatever the rest.
-    let mut local_of = std::collections::HashMap::new();
-    let mut map = Vec::new();
-    let mut local_faces = Vec::with_capacity(faces.len());
-    for &f in faces {
-        let face = mesh.faces[f as usize];
-        let mut lf = [0u32; 3];
-        for k in 0..3 {
-            lf[k] = *local_of.entry(face[k]).or_insert_with(|| {
-                map.push(face[k]);
-                (map.len() - 1) as u32
-            });
-        }
-        local_faces.push(lf);
-    }
-    let local = TriMesh {
-        positions: map.iter().map(|&g| mesh.positions[g as usize]).collect(),
-        faces: local_faces,
-        ..Default::default()
-    };
+    let (local, map) = flatcut_mesh::submesh(mesh, faces);
     let topo = Topology::build(&local)?;
     let w_local: Vec<f64> = map.iter().map(|&g| weights[g as usize]).collect();
     let piece =
