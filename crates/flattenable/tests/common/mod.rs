@@ -4,6 +4,11 @@
 use flatcut_mesh::TriMesh;
 
 /// N×N vertices on [−half, half]², z = height(x, y), faces counter-clockwise from +z.
+///
+/// Not `flatcut_mesh::shapes::grid_patch` on purpose: that one alternates the diagonals
+/// around the centre, while the and the prototype's patches have one diagonal per
+/// quad all the same way, and the measured tables in docs/algorithms/flattenable.md (the
+/// saddle's result depends on round-off) are reproduced on exactly these grids.
 pub fn grid(n: usize, half: f64, height: impl Fn(f64, f64) -> f64) -> TriMesh {
     let mut positions = Vec::with_capacity(n * n);
     for j in 0..n {
