@@ -1,0 +1,3 @@
+//! Cutting a surface into pieces along lines drawn on it: surface points, geodesic cutting
+//! lines, exact embedding, pieces with a provenance map, the seam ledger; and surface patches
+//! from wire-frames.
