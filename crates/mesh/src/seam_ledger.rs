@@ -151,7 +151,7 @@ impl SeamLedger {
                 });
             }
             for side in [&seam.a, &seam.b] {
-                if !self.pieces.iter().any(|p| *p == side.piece) {
+                if !self.pieces.contains(&side.piece) {
                     return Err(SeamLedgerError::UnknownPiece {
                         seam: seam.id.clone(),
                         piece: side.piece.clone(),
