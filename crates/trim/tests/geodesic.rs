@@ -1,6 +1,8 @@
 //! Geodesics against closed forms: developable patches (cylinder, cone) unrolled into the
 //! plane, where the shortest path is a straight segment; the sphere's great circle.
 
+#![allow(clippy::unwrap_used)]
+
 use flatcut_mesh::{FaceId, TriMesh, bvh::Bvh, shapes, vec3};
 use flatcut_trim::{GeodesicOptions, GeodesicSolver, SurfacePoint};
 
