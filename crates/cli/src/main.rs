@@ -17,6 +17,7 @@ mod demo;
 mod flatten;
 mod info;
 mod process;
+mod trim;
 mod util;
 
 use std::process::ExitCode;
@@ -43,6 +44,8 @@ enum Command {
     Flatten(flatten::FlattenArgs),
     /// Make pieces flattenable (θ = 2π at every interior vertex) with the least-norm method.
     Process(process::ProcessArgs),
+    /// Cut a surface along lines drawn on it into named pieces, with the seam ledger.
+    Trim(trim::TrimArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => demo::run(args),
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),
+        Command::Trim(args) => trim::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -138,4 +138,10 @@ pub enum TrimError {
         /// What failed.
         reason: String,
     },
+    /// A built-in cut design cannot place one of its landmarks on the given mesh.
+    #[error("cannot place landmark {what} on the mesh; is it the shape this cut was designed for?")]
+    NoLandmark {
+        /// The landmark.
+        what: String,
+    },
 }

@@ -11,6 +11,7 @@ pub mod lines;
 pub mod pieces;
 mod seams;
 pub mod surface_point;
+mod wetsuit;
 
 pub use cut::{LineReport, TrimReport, Trimmed, trim};
 pub use cuts::{CutSpec, Cuts, PieceSpec, TrimOptions};
@@ -20,3 +21,4 @@ pub use geodesic::{Geodesic, GeodesicOptions, GeodesicSolver, geodesic};
 pub use lines::{CutLine, cut_lines};
 pub use pieces::{Piece, PieceReport};
 pub use surface_point::{Location, SurfacePoint, SurfacePointOptions, surface_point};
+pub use wetsuit::dress_form_wetsuit;

@@ -452,3 +452,33 @@ fn vertex_lines_follow_edges() {
     assert_eq!(t.embedded.mesh.faces.len(), mesh.faces.len());
     assert!((t.lines[0].length - 80.0).abs() < 1e-9);
 }
+
+#[test]
+fn dress_form_wetsuit_gives_eight_disks() {
+    let m = shapes::BodyMeasurements {
+        resolution: 48,
+        ..Default::default()
+    };
+    let form = shapes::dress_form(&m);
+    let cuts = flatcut_trim::dress_form_wetsuit(&form, &m).unwrap();
+    let t = trim(&form, &cuts).unwrap();
+    check_conservation(&form, &t);
+    assert_eq!(t.pieces.len(), 8);
+    assert!(
+        t.report.pieces.iter().all(|p| p.kept && p.disk),
+        "{:#?}",
+        t.report.pieces
+    );
+    // Waist: split at the four lines crossing it; each other line at the waist (centre front
+    // and back, sides) in two; shoulders one each.
+    let count = |l: &str| t.ledger.seams.iter().filter(|s| s.line == l).count();
+    assert_eq!(count("waist"), 4);
+    for l in ["centre-front", "centre-back", "side-left", "side-right"] {
+        assert_eq!(count(l), 2, "{l}");
+    }
+    assert_eq!(count("shoulder-left"), 1);
+    // The waist seam is the measured waist (a polygon ring of 700 mm) up to the geodesic
+    // shortcut between its landmarks.
+    let w = t.lines.iter().find(|l| l.name == "waist").unwrap().length;
+    assert!(w <= 700.0 + 1e-6 && w > 690.0, "{w}");
+}
