@@ -17,6 +17,7 @@ mod demo;
 mod flatten;
 mod info;
 mod process;
+mod surface;
 mod util;
 
 use std::process::ExitCode;
@@ -43,6 +44,8 @@ enum Command {
     Flatten(flatten::FlattenArgs),
     /// Make pieces flattenable (θ = 2π at every interior vertex) with the least-norm method.
     Process(process::ProcessArgs),
+    /// Make a triangulated surface patch spanning a wire-frame of 3D boundary curves (WIRE.toml).
+    Surface(surface::SurfaceArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => demo::run(args),
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),
+        Command::Surface(args) => surface::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

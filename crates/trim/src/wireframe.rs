@@ -13,8 +13,10 @@
 //!    Cholesky). In the plane domain only the height over the plane is solved (the in-plane
 //!    coordinates are linear, so the cotan Laplacian reproduces them exactly).
 //! 5. The 3D triangle quality is measured; where lifting squeezes triangles below
-//!    [`WireframeOptions::min_angle_3d_deg`], interior vertices are relaxed tangentially
-//!    (a few rounds, each kept only if it raises the minimum 3D angle).
+//!    [`WireframeOptions::min_angle_3d_deg`], the patch is flattened conformally (LSCM), the
+//!    same boundary and guide samples are re-triangulated in that flattening (where 2D angles
+//!    are close to 3D angles), and lifted again (all three coordinates harmonic in the new
+//!    domain); a few passes, keeping the best.
 
 mod spd;
 
@@ -87,12 +89,13 @@ pub struct WireframeOptions {
     /// 28°: above the 20° asked in 3D, leaving room for the lift's distortion; spade's
     /// refinement is only guaranteed to terminate up to about 30°.
     pub domain_min_angle_deg: f64,
-    /// The minimum 3D angle the patch should reach (degrees); below it the interior is relaxed.
+    /// The minimum 3D angle the patch should reach (degrees); below it the patch is re-meshed
+    /// in a conformal flattening of itself.
     /// Default 20°.
     pub min_angle_3d_deg: f64,
-    /// At most this many tangential relaxation rounds when the 3D minimum angle is too low.
-    /// Default 20.
-    pub relax_rounds: usize,
+    /// At most this many re-parametrisation passes when the 3D minimum angle is below
+    /// `min_angle_3d_deg`. Default 3.
+    pub reparam_passes: usize,
     /// Refuse patches needing more vertices than this (a target edge far too small for the
     /// loop). Default 2 000 000.
     pub max_vertices: usize,
@@ -105,7 +108,7 @@ impl Default for WireframeOptions {
             domain: DomainChoice::Auto,
             domain_min_angle_deg: 28.0,
             min_angle_3d_deg: 20.0,
-            relax_rounds: 20,
+            reparam_passes: 3,
             max_vertices: 2_000_000,
         }
     }
@@ -194,7 +197,7 @@ pub enum VertexOrigin {
 /// Measurements of a patch.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct WireframeReport {
-    /// The parameter domain used.
+    /// The first parameter domain (see `conformal_domain` for the one kept).
     pub domain: DomainKind,
     /// Triangles.
     pub faces: usize,
@@ -212,8 +215,12 @@ pub struct WireframeReport {
     pub min_angle_lifted_deg: f64,
     /// Smallest triangle angle of the final 3D patch (degrees).
     pub min_angle_3d_deg: f64,
-    /// Relaxation rounds that were kept.
-    pub relax_rounds: usize,
+    /// Re-parametrisation passes made (conformal flattening of the lifted patch, re-mesh,
+    /// re-lift); the best pass is kept.
+    pub reparam_passes: usize,
+    /// True when the kept patch comes from a re-parametrisation pass: its domain (the mesh's
+    /// texture coordinates) is then a conformal flattening, not `domain`.
+    pub conformal_domain: bool,
     /// Largest distance of a boundary or guide vertex from the input segment it comes from (mm).
     pub max_boundary_deviation_mm: f64,
     /// Patch area (mm²).
@@ -561,198 +568,60 @@ pub fn wireframe_surface(
         });
     }
 
-    // Constrained Delaunay triangulation inside a padding box.
-    let mut verts: Vec<DomVertex> = nodes
-        .iter()
-        .enumerate()
-        .map(|(i, n)| DomVertex {
-            p: Point2::new(n.p2[0], n.p2[1]),
-            tag: i as u32,
-        })
-        .collect();
-    let (lo, hi) = bbox2(&boundary_poly);
-    let pad = BOX_PAD_RELATIVE * (hi[0] - lo[0]).max(hi[1] - lo[1]);
-    for (x, y) in [
-        (lo[0] - pad, lo[1] - pad),
-        (hi[0] + pad, lo[1] - pad),
-        (hi[0] + pad, hi[1] + pad),
-        (lo[0] - pad, hi[1] + pad),
-    ] {
-        verts.push(DomVertex {
-            p: Point2::new(x, y),
-            tag: BOX_VERTEX,
-        });
-    }
-    let n_in = verts.len();
-    let mut conflicts = Vec::new();
-    let mut cdt: ConstrainedDelaunayTriangulation<DomVertex> =
-        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(verts, edges.clone(), |e| {
-            conflicts.push(e)
-        })
-        .map_err(|e| WireframeError::Triangulation(format!("{e:?}")))?;
-    if cdt.num_vertices() != n_in {
-        // A guide sample on top of another sample: the guides cross (or touch the boundary).
-        let have: HashSet<u32> = cdt.vertices().map(|v| v.data().tag).collect();
-        let lost = (0..nodes.len()).find(|&i| !have.contains(&(i as u32)));
-        if let Some(VertexOrigin::GuidePoint { guide, .. } | VertexOrigin::OnGuide { guide, .. }) =
-            lost.map(|i| nodes[i].origin)
-        {
-            return Err(WireframeError::GuideCrosses {
-                guide: wire.guide[guide].name.clone(),
-            });
-        }
-        return Err(WireframeError::CoincidentDomainPoints {
-            count: n_in - cdt.num_vertices(),
-        });
-    }
-    if let Some(e) = conflicts.first() {
-        // One of the two conflicting edges; boundary edges cannot conflict with each other
-        // (the loop is simple), so a guide is involved: name this one's, or the first guide.
-        let guide = edges
-            .iter()
-            .position(|x| x == e || *x == [e[1], e[0]])
-            .filter(|&i| !edge_info[i].curve)
-            .map_or(0, |i| edge_info[i].index);
-        return Err(WireframeError::GuideCrosses {
-            guide: wire
-                .guide
-                .get(guide)
-                .map_or_else(String::new, |g| g.name.clone()),
-        });
-    }
-    let edge_lookup: HashMap<(usize, usize), usize> = edges
-        .iter()
-        .enumerate()
-        .map(|(i, e)| ((e[0], e[1]), i))
-        .collect();
-    // spade tells inside from outside by the parity of constraint crossings, which guides
-    // reaching the boundary break (a region beyond a guide counts as outside). With guides the
-    // whole box is refined and the inside is found below from the boundary polygon alone.
-    let exclude_outside = wire.guide.is_empty();
-    let box_area = (hi[0] - lo[0] + 2.0 * pad) * (hi[1] - lo[1] + 2.0 * pad);
-    let refined_area = if exclude_outside {
-        domain_area
-    } else {
-        box_area
+    let meshed = triangulate(
+        &nodes,
+        n_boundary,
+        &edges,
+        &edge_info,
+        tri_area,
+        opts.domain_min_angle_deg,
+        opts.max_vertices,
+        &wire.guide,
+    )?;
+    let first_lift = match kind {
+        DomainKind::Plane => Lift::Height(frame),
+        DomainKind::Circle => Lift::Xyz,
     };
-    let budget = (4 * (nodes.len() + (refined_area / tri_area).ceil() as usize) + 1000)
-        .min(opts.max_vertices);
-    let result = cdt.refine(
-        RefinementParameters::<f64>::new()
-            .exclude_outer_faces(exclude_outside)
-            .with_angle_limit(AngleLimit::from_deg(opts.domain_min_angle_deg))
-            .with_max_allowed_area(tri_area)
-            .with_max_additional_vertices(budget),
-    );
-    if !result.refinement_complete {
-        return Err(WireframeError::RefinementIncomplete { budget });
-    }
-    let excluded: HashSet<_> = result.excluded_faces.iter().copied().collect();
-    // A face is inside when its centroid is inside the boundary polygon (faces never straddle
-    // a constraint edge, so the centroid decides for the whole face).
-    let inside = |f: &spade::handles::FaceHandle<
-        '_,
-        spade::handles::InnerTag,
-        DomVertex,
-        (),
-        spade::CdtEdge<()>,
-        (),
-    >| {
-        let [a, b, c] = f.positions();
-        point_in_polygon(
-            [(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0],
-            &boundary_poly,
-        )
-    };
-
-    // Extract the inside faces, number their vertices, and place every vertex in 3D.
-    let mut index: HashMap<FixedVertexHandle, u32> = HashMap::new();
-    let mut handles: Vec<FixedVertexHandle> = Vec::new();
-    let mut faces: Vec<[u32; 3]> = Vec::new();
-    for f in cdt.inner_faces() {
-        if excluded.contains(&f.fix()) || !inside(&f) {
-            continue;
-        }
-        let vs = f.vertices();
-        let mut tri = [0u32; 3];
-        for (k, v) in vs.iter().enumerate() {
-            let next = handles.len() as u32;
-            tri[k] = *index.entry(v.fix()).or_insert_with(|| {
-                handles.push(v.fix());
-                next
-            });
-        }
-        faces.push(tri);
-    }
-    if faces.is_empty() {
-        return Err(WireframeError::Solve("no triangle inside the loop"));
-    }
-    let nv = handles.len();
-    let mut domain: Vec<[f64; 2]> = Vec::with_capacity(nv);
-    let mut origins = Vec::with_capacity(nv);
-    let mut fixed3: Vec<Option<[f64; 3]>> = Vec::with_capacity(nv);
-    for &hdl in &handles {
-        let v = cdt.vertex(hdl);
-        let p = v.position();
-        domain.push([p.x, p.y]);
-        let tag = v.data().tag;
-        if (tag as usize) < nodes.len() {
-            let n = &nodes[tag as usize];
-            origins.push(n.origin);
-            fixed3.push(Some(n.p3));
-        } else if tag == NEW_VERTEX {
-            let on_edge = split_of(&cdt, hdl).and_then(|(a, b)| {
-                let (i, flip) = match edge_lookup.get(&(a, b)) {
-                    Some(&i) => (i, false),
-                    None => (*edge_lookup.get(&(b, a))?, true),
-                };
-                Some((a, b, edge_info[i], flip))
-            });
-            match on_edge {
-                Some((a, b, info, flip)) => {
-                    let (na, nb) = (&nodes[a], &nodes[b]);
-                    // Parameter along a → b from the domain positions (the domain map is
-                    // linear along every constraint edge), then the 3D point on the segment.
-                    let t = (dist2(na.p2, [p.x, p.y]) / dist2(na.p2, nb.p2)).clamp(0.0, 1.0);
-                    let p3 = lerp3(na.p3, nb.p3, t);
-                    let [ta, tb] = if flip { [info.t[1], info.t[0]] } else { info.t };
-                    origins.push(info.origin(ta + t * (tb - ta)));
-                    fixed3.push(Some(p3));
-                }
-                None => {
-                    origins.push(VertexOrigin::Interior);
-                    fixed3.push(None);
-                }
-            }
-        } else {
-            // A box vertex cannot be in an inside face (the box is outside the loop).
-            return Err(WireframeError::Solve("box vertex inside the domain"));
+    let positions = lift(&meshed.domain, &meshed.faces, &meshed.fixed3, first_lift)?;
+    let min_angle_lifted_deg = min_angle_deg(&positions, &meshed.faces);
+    let mut best = (meshed.clone(), positions, min_angle_lifted_deg);
+    let mut conformal_domain = false;
+    let mut current = best.clone();
+    let mut reparam_passes = 0;
+    // Where the lift squeezed triangles, re-mesh in a conformal flattening of the lifted
+    // surface (angles there ≈ angles on the surface) and lift again; keep the best pass.
+    while best.2 < opts.min_angle_3d_deg && reparam_passes < opts.reparam_passes {
+        let Some(next) = reparametrise(
+            &current.0,
+            &current.1,
+            &nodes,
+            n_boundary,
+            &edges,
+            &edge_info,
+            tri_area,
+            opts,
+            &wire.guide,
+        ) else {
+            break;
+        };
+        reparam_passes += 1;
+        current = next;
+        if current.2 > best.2 {
+            best = current.clone();
+            conformal_domain = true;
         }
     }
-
-    let mut positions = lift(&domain, &faces, &fixed3, kind, &frame)?;
+    let (meshed, positions, min3) = best;
+    let Meshed {
+        faces,
+        domain,
+        origins,
+        ..
+    } = meshed;
     let min_angle_domain_deg = min_angle_deg(
         &domain.iter().map(|p| [p[0], p[1], 0.0]).collect::<Vec<_>>(),
         &faces,
     );
-    let min_angle_lifted_deg = min_angle_deg(&positions, &faces);
-    let mut relax_rounds = 0;
-    let mut min3 = min_angle_lifted_deg;
-    if min3 < opts.min_angle_3d_deg {
-        let (d, p, rounds) = relax(
-            &domain,
-            &positions,
-            &faces,
-            &fixed3,
-            kind,
-            &frame,
-            opts.relax_rounds,
-        )?;
-        domain = d;
-        positions = p;
-        relax_rounds = rounds;
-        min3 = min_angle_deg(&positions, &faces);
-    }
     let mut warnings = Vec::new();
     if min3 < opts.min_angle_3d_deg {
         warnings.push(format!(
@@ -787,7 +656,8 @@ pub fn wireframe_surface(
         min_angle_domain_deg,
         min_angle_lifted_deg,
         min_angle_3d_deg: min3,
-        relax_rounds,
+        reparam_passes,
+        conformal_domain,
         max_boundary_deviation_mm,
         area_mm2,
         warnings,
@@ -1484,6 +1354,218 @@ impl EdgeOnInput {
     }
 }
 
+/// A triangulated domain with every vertex's origin and fixed 3D point (boundary and guide
+/// vertices) or `None` (interior).
+#[derive(Clone, Debug)]
+struct Meshed {
+    faces: Vec<[u32; 3]>,
+    domain: Vec<[f64; 2]>,
+    origins: Vec<VertexOrigin>,
+    fixed3: Vec<Option<[f64; 3]>>,
+    /// The node each vertex is (None: inserted by the refinement).
+    node_of: Vec<Option<usize>>,
+}
+
+/// Constrained Delaunay triangulation with refinement of the domain spanned by `nodes`
+/// (the first `n_boundary` are the boundary loop, counter-clockwise) and the constraint
+/// `edges`; keeps the faces inside the loop and places vertices inserted on constraint edges
+/// on the 3D segment between the edge's nodes.
+#[allow(clippy::too_many_arguments)]
+fn triangulate(
+    nodes: &[Node],
+    n_boundary: usize,
+    edges: &[[usize; 2]],
+    edge_info: &[EdgeOnInput],
+    tri_area: f64,
+    min_angle_deg: f64,
+    max_vertices: usize,
+    guides: &[WireCurve],
+) -> Result<Meshed, WireframeError> {
+    let boundary_poly: Vec<[f64; 2]> = nodes[..n_boundary].iter().map(|n| n.p2).collect();
+    // Constrained Delaunay triangulation inside a padding box.
+    let mut verts: Vec<DomVertex> = nodes
+        .iter()
+        .enumerate()
+        .map(|(i, n)| DomVertex {
+            p: Point2::new(n.p2[0], n.p2[1]),
+            tag: i as u32,
+        })
+        .collect();
+    let (lo, hi) = bbox2(&boundary_poly);
+    let pad = BOX_PAD_RELATIVE * (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    for (x, y) in [
+        (lo[0] - pad, lo[1] - pad),
+        (hi[0] + pad, lo[1] - pad),
+        (hi[0] + pad, hi[1] + pad),
+        (lo[0] - pad, hi[1] + pad),
+    ] {
+        verts.push(DomVertex {
+            p: Point2::new(x, y),
+            tag: BOX_VERTEX,
+        });
+    }
+    let n_in = verts.len();
+    let mut conflicts = Vec::new();
+    let mut cdt: ConstrainedDelaunayTriangulation<DomVertex> =
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(verts, edges.to_vec(), |e| {
+            conflicts.push(e)
+        })
+        .map_err(|e| WireframeError::Triangulation(format!("{e:?}")))?;
+    if cdt.num_vertices() != n_in {
+        // A guide sample on top of another sample: the guides cross (or touch the boundary).
+        let have: HashSet<u32> = cdt.vertices().map(|v| v.data().tag).collect();
+        let lost = (0..nodes.len()).find(|&i| !have.contains(&(i as u32)));
+        if let Some(VertexOrigin::GuidePoint { guide, .. } | VertexOrigin::OnGuide { guide, .. }) =
+            lost.map(|i| nodes[i].origin)
+        {
+            return Err(WireframeError::GuideCrosses {
+                guide: guides[guide].name.clone(),
+            });
+        }
+        return Err(WireframeError::CoincidentDomainPoints {
+            count: n_in - cdt.num_vertices(),
+        });
+    }
+    if let Some(e) = conflicts.first() {
+        // One of the two conflicting edges; boundary edges cannot conflict with each other
+        // (the loop is simple), so a guide is involved: name this one's, or the first guide.
+        let guide = edges
+            .iter()
+            .position(|x| x == e || *x == [e[1], e[0]])
+            .filter(|&i| !edge_info[i].curve)
+            .map_or(0, |i| edge_info[i].index);
+        return Err(WireframeError::GuideCrosses {
+            guide: guides
+                .get(guide)
+                .map_or_else(String::new, |g| g.name.clone()),
+        });
+    }
+    let edge_lookup: HashMap<(usize, usize), usize> = edges
+        .iter()
+        .enumerate()
+        .map(|(i, e)| ((e[0], e[1]), i))
+        .collect();
+    // spade tells inside from outside by the parity of constraint crossings, which guides
+    // reaching the boundary break (a region beyond a guide counts as outside). With guides the
+    // whole box is refined and the inside is found below from the boundary polygon alone.
+    let exclude_outside = guides.is_empty();
+    let box_area = (hi[0] - lo[0] + 2.0 * pad) * (hi[1] - lo[1] + 2.0 * pad);
+    let refined_area = if exclude_outside {
+        signed_area(&boundary_poly).abs()
+    } else {
+        box_area
+    };
+    let budget =
+        (4 * (nodes.len() + (refined_area / tri_area).ceil() as usize) + 1000).min(max_vertices);
+    let result = cdt.refine(
+        RefinementParameters::<f64>::new()
+            .exclude_outer_faces(exclude_outside)
+            .with_angle_limit(AngleLimit::from_deg(min_angle_deg))
+            .with_max_allowed_area(tri_area)
+            .with_max_additional_vertices(budget),
+    );
+    if !result.refinement_complete {
+        return Err(WireframeError::RefinementIncomplete { budget });
+    }
+    let excluded: HashSet<_> = result.excluded_faces.iter().copied().collect();
+    // A face is inside when its centroid is inside the boundary polygon (faces never straddle
+    // a constraint edge, so the centroid decides for the whole face).
+    let inside = |f: &spade::handles::FaceHandle<
+        '_,
+        spade::handles::InnerTag,
+        DomVertex,
+        (),
+        spade::CdtEdge<()>,
+        (),
+    >| {
+        let [a, b, c] = f.positions();
+        point_in_polygon(
+            [(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0],
+            &boundary_poly,
+        )
+    };
+
+    // Extract the inside faces, number their vertices, and place every vertex in 3D.
+    let mut index: HashMap<FixedVertexHandle, u32> = HashMap::new();
+    let mut handles: Vec<FixedVertexHandle> = Vec::new();
+    let mut faces: Vec<[u32; 3]> = Vec::new();
+    for f in cdt.inner_faces() {
+        if excluded.contains(&f.fix()) || !inside(&f) {
+            continue;
+        }
+        let vs = f.vertices();
+        let mut tri = [0u32; 3];
+        for (k, v) in vs.iter().enumerate() {
+            let next = handles.len() as u32;
+            tri[k] = *index.entry(v.fix()).or_insert_with(|| {
+                handles.push(v.fix());
+                next
+            });
+        }
+        faces.push(tri);
+    }
+    if faces.is_empty() {
+        return Err(WireframeError::Solve("no triangle inside the loop"));
+    }
+    let nv = handles.len();
+    let mut domain: Vec<[f64; 2]> = Vec::with_capacity(nv);
+    let mut origins = Vec::with_capacity(nv);
+    let mut fixed3: Vec<Option<[f64; 3]>> = Vec::with_capacity(nv);
+    for &hdl in &handles {
+        let v = cdt.vertex(hdl);
+        let p = v.position();
+        domain.push([p.x, p.y]);
+        let tag = v.data().tag;
+        if (tag as usize) < nodes.len() {
+            let n = &nodes[tag as usize];
+            origins.push(n.origin);
+            fixed3.push(Some(n.p3));
+        } else if tag == NEW_VERTEX {
+            let on_edge = split_of(&cdt, hdl).and_then(|(a, b)| {
+                let (i, flip) = match edge_lookup.get(&(a, b)) {
+                    Some(&i) => (i, false),
+                    None => (*edge_lookup.get(&(b, a))?, true),
+                };
+                Some((a, b, edge_info[i], flip))
+            });
+            match on_edge {
+                Some((a, b, info, flip)) => {
+                    let (na, nb) = (&nodes[a], &nodes[b]);
+                    // Parameter along a → b from the domain positions (the domain map is
+                    // linear along every constraint edge), then the 3D point on the segment.
+                    let t = (dist2(na.p2, [p.x, p.y]) / dist2(na.p2, nb.p2)).clamp(0.0, 1.0);
+                    let p3 = lerp3(na.p3, nb.p3, t);
+                    let [ta, tb] = if flip { [info.t[1], info.t[0]] } else { info.t };
+                    origins.push(info.origin(ta + t * (tb - ta)));
+                    fixed3.push(Some(p3));
+                }
+                None => {
+                    origins.push(VertexOrigin::Interior);
+                    fixed3.push(None);
+                }
+            }
+        } else {
+            // A box vertex cannot be in an inside face (the box is outside the loop).
+            return Err(WireframeError::Solve("box vertex inside the domain"));
+        }
+    }
+
+    let node_of = handles
+        .iter()
+        .map(|&hdl| {
+            let tag = cdt.vertex(hdl).data().tag as usize;
+            (tag < nodes.len()).then_some(tag)
+        })
+        .collect();
+    Ok(Meshed {
+        faces,
+        domain,
+        origins,
+        fixed3,
+        node_of,
+    })
+}
+
 /// Distance of a boundary/guide vertex from the input segment its origin names.
 fn deviation(
     o: VertexOrigin,
@@ -1584,8 +1666,7 @@ fn lift(
     domain: &[[f64; 2]],
     faces: &[[u32; 3]],
     fixed: &[Option<[f64; 3]>],
-    kind: DomainKind,
-    frame: &Frame,
+    mode: Lift,
 ) -> Result<Vec<[f64; 3]>, WireframeError> {
     let n = domain.len();
     let mut unknown = vec![usize::MAX; n];
@@ -1597,15 +1678,15 @@ fn lift(
         }
     }
     // Fixed values per channel.
-    let channels = match kind {
-        DomainKind::Plane => 1,
-        DomainKind::Circle => 3,
+    let channels = match mode {
+        Lift::Height(_) => 1,
+        Lift::Xyz => 3,
     };
     let value = |i: usize, c: usize| -> f64 {
         let p = fixed[i].unwrap_or([0.0; 3]);
-        match kind {
-            DomainKind::Plane => frame.height(p),
-            DomainKind::Circle => p[c],
+        match mode {
+            Lift::Height(frame) => frame.height(p),
+            Lift::Xyz => p[c],
         }
     };
     let mut sol = vec![0.0; m * channels];
@@ -1653,88 +1734,191 @@ fn lift(
             Some(p) => p,
             None => {
                 let u = unknown[i];
-                match kind {
-                    DomainKind::Plane => frame.point(domain[i], sol[u]),
-                    DomainKind::Circle => [sol[u], sol[m + u], sol[2 * m + u]],
+                match mode {
+                    Lift::Height(frame) => frame.point(domain[i], sol[u]),
+                    Lift::Xyz => [sol[u], sol[m + u], sol[2 * m + u]],
                 }
             }
         })
         .collect())
 }
 
-/// Relaxed domain, 3D positions, and the number of rounds kept.
-type Relaxed = (Vec<[f64; 2]>, Vec<[f64; 3]>, usize);
+/// What the harmonic lift solves for.
+#[derive(Clone, Copy, Debug)]
+enum Lift {
+    /// The domain is the orthogonal projection to this frame's plane: in-plane coordinates
+    /// are the domain position, only the height is solved.
+    Height(Frame),
+    /// All three coordinates are harmonic functions on the domain.
+    Xyz,
+}
 
-/// Tangential relaxation: each round moves every interior domain vertex to the average of
-/// its neighbours' domain positions weighted by how long the 3D edge is compared with the
-/// domain edge (so 3D-stretched edges pull harder), then re-solves the lift. A round is kept
-/// only if no domain triangle inverts and the minimum 3D angle grows.
-fn relax(
-    domain: &[[f64; 2]],
+/// One re-parametrisation pass: conformal flattening (LSCM) of the lifted patch, the nodes
+/// re-placed there, re-triangulated and lifted. `None` if the flattening is unusable (folds,
+/// a self-crossing boundary) or the triangulation fails; the caller keeps what it has.
+#[allow(clippy::too_many_arguments)]
+fn reparametrise(
+    meshed: &Meshed,
     positions: &[[f64; 3]],
-    faces: &[[u32; 3]],
-    fixed: &[Option<[f64; 3]>],
-    kind: DomainKind,
-    frame: &Frame,
-    rounds: usize,
-) -> Result<Relaxed, WireframeError> {
-    let n = domain.len();
-    let mut nbrs: Vec<Vec<u32>> = vec![Vec::new(); n];
+    nodes: &[Node],
+    n_boundary: usize,
+    edges: &[[usize; 2]],
+    edge_info: &[EdgeOnInput],
+    tri_area: f64,
+    opts: &WireframeOptions,
+    guides: &[WireCurve],
+) -> Option<(Meshed, Vec<[f64; 3]>, f64)> {
+    let flat = lscm(positions, &meshed.faces)?;
+    let mut nodes2 = nodes.to_vec();
+    let mut seen = vec![false; nodes.len()];
+    for (v, n) in meshed.node_of.iter().enumerate() {
+        if let Some(n) = *n {
+            nodes2[n].p2 = flat[v];
+            seen[n] = true;
+        }
+    }
+    if seen.iter().any(|s| !s) {
+        return None;
+    }
+    let poly: Vec<[f64; 2]> = nodes2[..n_boundary].iter().map(|n| n.p2).collect();
+    let area2 = signed_area(&poly);
+    if area2 <= 0.0 {
+        return None;
+    }
+    let d = diagonal(positions.iter().copied());
+    if first_crossing(&poly, TOUCH_RELATIVE * d).is_some() {
+        return None;
+    }
+    // Same number of triangles as asked in 3D: scale the area limit by the flattening's
+    // overall area ratio.
+    let area3 = flatcut_mesh::geometry::face_areas(positions, &meshed.faces)
+        .iter()
+        .sum::<f64>();
+    let m = triangulate(
+        &nodes2,
+        n_boundary,
+        edges,
+        edge_info,
+        tri_area * area2 / area3,
+        opts.domain_min_angle_deg,
+        opts.max_vertices,
+        guides,
+    )
+    .ok()?;
+    let p = lift(&m.domain, &m.faces, &m.fixed3, Lift::Xyz).ok()?;
+    let a = min_angle_deg(&p, &m.faces);
+    Some((m, p, a))
+}
+
+/// Least-squares conformal map (Lévy et al. 2002) of a disk patch, two far-apart vertices
+/// pinned at their 3D distance: per face the residual Σ_k W_k U_k / √(2A) with
+/// W_k = z_(k+2) − z_(k+1) in the face's own 2D frame (zero for every orientation-preserving
+/// similarity). `None` if the solve fails or a triangle comes out folded.
+fn lscm(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Option<Vec<[f64; 2]>> {
+    let n = positions.len();
+    // Pins: a vertex farthest from vertex 0, then the one farthest from it.
+    let far = |from: usize| {
+        (0..n)
+            .max_by(|&a, &b| {
+                dist(positions[a], positions[from]).total_cmp(&dist(positions[b], positions[from]))
+            })
+            .unwrap_or(0)
+    };
+    let p0 = far(0);
+    let p1 = far(p0);
+    if p0 == p1 {
+        return None;
+    }
+    let pinned = |v: usize| v == p0 || v == p1;
+    let pin_value = |v: usize| -> [f64; 2] {
+        if v == p0 {
+            [0.0, 0.0]
+        } else {
+            [dist(positions[p0], positions[p1]), 0.0]
+        }
+    };
+    // Free unknowns: (u, v) of every unpinned vertex.
+    let mut col = vec![usize::MAX; n];
+    let mut m = 0;
+    for (v, c) in col.iter_mut().enumerate() {
+        if !pinned(v) {
+            *c = m;
+            m += 1;
+        }
+    }
+    let nf = 2 * m;
+    let mut pairs = Vec::with_capacity(faces.len() * 36);
+    let mut vals = Vec::with_capacity(faces.len() * 36);
+    let mut rhs = vec![0.0; nf];
     for f in faces {
+        let [a, b, c] = f.map(|v| positions[v as usize]);
+        let e1 = sub(b, a);
+        let l1 = norm(e1);
+        let nrm = cross(e1, sub(c, a));
+        let twice_area = norm(nrm);
+        if l1 == 0.0 || twice_area == 0.0 {
+            continue;
+        }
+        let x = scale(e1, 1.0 / l1);
+        let y = cross(scale(nrm, 1.0 / twice_area), x);
+        let z = [
+            [0.0, 0.0],
+            [l1, 0.0],
+            [dot(sub(c, a), x), dot(sub(c, a), y)],
+        ];
+        let w = 1.0 / twice_area.sqrt();
+        // Two real rows: Re and Im of Σ W_k (u_k + i v_k).
+        let mut rows = [[(0usize, 0.0f64); 6]; 2];
         for k in 0..3 {
-            let (a, b) = (f[k], f[(k + 1) % 3]);
-            if !nbrs[a as usize].contains(&b) {
-                nbrs[a as usize].push(b);
+            let wr = (z[(k + 2) % 3][0] - z[(k + 1) % 3][0]) * w;
+            let wi = (z[(k + 2) % 3][1] - z[(k + 1) % 3][1]) * w;
+            let v = f[k] as usize;
+            rows[0][2 * k] = (2 * v, wr);
+            rows[0][2 * k + 1] = (2 * v + 1, -wi);
+            rows[1][2 * k] = (2 * v, wi);
+            rows[1][2 * k + 1] = (2 * v + 1, wr);
+        }
+        let free = |var: usize| {
+            let c = col[var / 2];
+            (c != usize::MAX).then(|| 2 * c + var % 2)
+        };
+        for row in &rows {
+            // Pinned part moves to the right-hand side.
+            let mut fixed_part = 0.0;
+            for &(var, coef) in row {
+                if free(var).is_none() {
+                    fixed_part += coef * pin_value(var / 2)[var % 2];
+                }
             }
-            if !nbrs[b as usize].contains(&a) {
-                nbrs[b as usize].push(a);
+            for &(vi, ci) in row {
+                let Some(i) = free(vi) else { continue };
+                rhs[i] -= ci * fixed_part;
+                for &(vj, cj) in row {
+                    let Some(j) = free(vj) else { continue };
+                    if i >= j {
+                        pairs.push((i, j));
+                        vals.push(ci * cj);
+                    }
+                }
             }
         }
     }
-    let mut dom = domain.to_vec();
-    let mut pos = positions.to_vec();
-    let mut best = min_angle_deg(&pos, faces);
-    let mut kept = 0;
-    for _ in 0..rounds {
-        let mut next = dom.clone();
-        for i in 0..n {
-            if fixed[i].is_some() || nbrs[i].is_empty() {
-                continue;
-            }
-            let mut acc = [0.0; 2];
-            let mut wsum = 0.0;
-            for &j in &nbrs[i] {
-                let j = j as usize;
-                let l3 = dist(pos[i], pos[j]);
-                let l2 = dist2(dom[i], dom[j]).max(f64::MIN_POSITIVE);
-                let w = l3 / l2;
-                acc[0] += w * dom[j][0];
-                acc[1] += w * dom[j][1];
-                wsum += w;
-            }
-            if wsum > 0.0 {
-                next[i] = [acc[0] / wsum, acc[1] / wsum];
-            }
-        }
-        let inverted = faces.iter().any(|f| {
-            cross2(
-                next[f[0] as usize],
-                next[f[1] as usize],
-                next[f[2] as usize],
-            ) <= 0.0
-        });
-        if inverted {
-            break;
-        }
-        let p = lift(&next, faces, fixed, kind, frame)?;
-        let a = min_angle_deg(&p, faces);
-        if a <= best {
-            break;
-        }
-        best = a;
-        dom = next;
-        pos = p;
-        kept += 1;
+    let pattern = spd::SpdPattern::new(nf, &pairs)?;
+    let factor = pattern.factor(&vals)?;
+    if !factor.solve_in_place(&mut rhs, 1) {
+        return None;
     }
-    Ok((dom, pos, kept))
+    let uv: Vec<[f64; 2]> = (0..n)
+        .map(|v| {
+            if pinned(v) {
+                pin_value(v)
+            } else {
+                [rhs[2 * col[v]], rhs[2 * col[v] + 1]]
+            }
+        })
+        .collect();
+    let folded = faces
+        .iter()
+        .any(|f| cross2(uv[f[0] as usize], uv[f[1] as usize], uv[f[2] as usize]) <= 0.0);
+    (!folded).then_some(uv)
 }
