@@ -1303,7 +1303,8 @@ fn split_of(
         return None;
     }
     let walk = |mut prev: FixedVertexHandle, mut cur: FixedVertexHandle| -> Option<usize> {
-        loop {
+        // A chain never revisits a vertex; the bound only guards against a malformed one.
+        for _ in 0..cdt.num_vertices() {
             let tag = cdt.vertex(cur).data().tag;
             if tag != NEW_VERTEX {
                 return (tag < BOX_VERTEX).then_some(tag as usize);
@@ -1317,6 +1318,7 @@ fn split_of(
             prev = cur;
             cur = next;
         }
+        None
     };
     let a = walk(v, constraint_nbrs[0])?;
     let b = walk(v, constraint_nbrs[1])?;
