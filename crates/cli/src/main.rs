@@ -18,6 +18,7 @@ mod flatten;
 mod info;
 mod process;
 mod trim;
+mod surface;
 mod util;
 
 use std::process::ExitCode;
@@ -46,6 +47,8 @@ enum Command {
     Process(process::ProcessArgs),
     /// Cut a surface along lines drawn on it into named pieces, with the seam ledger.
     Trim(trim::TrimArgs),
+    /// Make a triangulated surface patch spanning a wire-frame of 3D boundary curves (WIRE.toml).
+    Surface(surface::SurfaceArgs),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +64,7 @@ fn main() -> ExitCode {
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),
         Command::Trim(args) => trim::run(args),
+        Command::Surface(args) => surface::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

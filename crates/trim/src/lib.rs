@@ -22,3 +22,9 @@ pub use lines::{CutLine, cut_lines};
 pub use pieces::{Piece, PieceReport};
 pub use surface_point::{Location, SurfacePoint, SurfacePointOptions, surface_point};
 pub use wetsuit::dress_form_wetsuit;
+pub mod wireframe;
+
+pub use wireframe::{
+    DomainChoice, DomainKind, VertexOrigin, WireCurve, WireFrame, WireframeError, WireframeOptions,
+    WireframePatch, WireframeReport, wireframe_surface,
+};
