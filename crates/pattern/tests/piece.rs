@@ -1,6 +1,8 @@
 //! Pattern pieces from hand-made flattened pieces and ledgers: matching notches on mates,
 //! darts, grain, shrink, layout without overlap, and the refusals.
 
+#![allow(clippy::unwrap_used)]
+
 mod common;
 
 use common::{flat_piece, grid, polyline_arc_of};
@@ -281,7 +283,7 @@ fn refusals_name_the_problem() {
         seam_allowance_mm: 16.0,
         ..Default::default()
     };
-    let e = build_pieces(&[p.clone()], None, &opts).unwrap_err();
+    let e = build_pieces(std::slice::from_ref(&p), None, &opts).unwrap_err();
     assert!(
         matches!(e, PatternError::AllowanceTooLarge { half_mm, .. } if (half_mm - 15.0).abs() < 1e-9),
         "{e}"
@@ -289,7 +291,7 @@ fn refusals_name_the_problem() {
 
     let mut opts = PatternOptions::default();
     opts.seam_overrides.insert("x/0".into(), -1.0);
-    let e = build_pieces(&[p.clone()], None, &opts).unwrap_err();
+    let e = build_pieces(std::slice::from_ref(&p), None, &opts).unwrap_err();
     assert!(
         e.to_string().contains("seam_overrides[\"x/0\"] = -1"),
         "{e}"
@@ -309,7 +311,12 @@ fn refusals_name_the_problem() {
         ("small", vec![0, 1]),
         ("ghost", vec![0, 1]),
     ));
-    let e = build_pieces(&[p.clone()], Some(&ledger), &PatternOptions::default()).unwrap_err();
+    let e = build_pieces(
+        std::slice::from_ref(&p),
+        Some(&ledger),
+        &PatternOptions::default(),
+    )
+    .unwrap_err();
     assert!(matches!(e, PatternError::MissingPiece { .. }), "{e}");
 
     let mut ledger = SeamLedger::new(vec!["small".into()]);

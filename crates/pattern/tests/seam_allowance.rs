@@ -1,6 +1,8 @@
 //! The cut line against the done-when: sampled every 1 mm it lies at the allowance from the
 //! sew line (±0.01 mm) away from corners, and each corner rule holds at the corners.
 
+#![allow(clippy::unwrap_used)]
+
 use flatcut_pattern::geom::{
     cross, dist, dot, point_in_polygon, point_polygon_distance, signed_area, sub, unit,
 };
