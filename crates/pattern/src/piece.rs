@@ -208,6 +208,9 @@ pub struct PatternPiece {
     pub sew_vertices: Vec<u32>,
     /// Allowance of each sew-line edge `i → i+1` (mm).
     pub edge_allowance_mm: Vec<f64>,
+    /// For each sew-line edge `i → i+1`, the index in [`PatternPiece::seams`] of the seam it
+    /// belongs to (`None`: a free edge, e.g. a hem or neckline).
+    pub edge_seam: Vec<Option<usize>>,
     /// The cut line, counter-clockwise.
     pub cut_line: Vec<[f64; 2]>,
     /// Inner boundary loops (holes), drawn as internal lines without allowance.
@@ -667,6 +670,7 @@ fn finish(
         })?;
 
     let mut seams = Vec::new();
+    let mut edge_seam = vec![None; n];
     let mut notches = Vec::new();
     let mut darts = Vec::new();
     for side in sides {
@@ -680,6 +684,14 @@ fn finish(
             .seam_overrides
             .get(&seam.id)
             .unwrap_or(&opts.seam_allowance_mm);
+        for k in 0..side.idx.len() - 1 {
+            let e = if side.forward {
+                side.idx[k]
+            } else {
+                side.idx[k + 1]
+            };
+            edge_seam[e] = Some(seams.len());
+        }
         seams.push(PieceSeam {
             id: seam.id.clone(),
             kind: seam.kind,
@@ -768,6 +780,7 @@ fn finish(
         sew_line: prep.sew,
         sew_vertices: prep.sew_vertices,
         edge_allowance_mm: widths,
+        edge_seam,
         cut_line: cut,
         holes: prep.holes,
         seams,
