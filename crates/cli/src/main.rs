@@ -17,6 +17,7 @@ mod demo;
 mod flatten;
 mod info;
 mod process;
+mod run;
 mod util;
 
 use std::process::ExitCode;
@@ -43,6 +44,9 @@ enum Command {
     Flatten(flatten::FlattenArgs),
     /// Make pieces flattenable (θ = 2π at every interior vertex) with the least-norm method.
     Process(process::ProcessArgs),
+    /// Run pipeline recipes (TOML) end to end into output folders with a report; no
+    /// argument runs the bundled wetsuit demo.
+    Run(run::RunArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +61,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => demo::run(args),
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),
+        Command::Run(args) => run::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
