@@ -19,6 +19,7 @@ mod info;
 mod process;
 mod trim;
 mod surface;
+mod run;
 mod util;
 
 use std::process::ExitCode;
@@ -49,6 +50,9 @@ enum Command {
     Trim(trim::TrimArgs),
     /// Make a triangulated surface patch spanning a wire-frame of 3D boundary curves (WIRE.toml).
     Surface(surface::SurfaceArgs),
+    /// Run pipeline recipes (TOML) end to end into output folders with a report; no
+    /// argument runs the bundled wetsuit demo.
+    Run(run::RunArgs),
 }
 
 fn main() -> ExitCode {
@@ -65,6 +69,7 @@ fn main() -> ExitCode {
         Command::Process(args) => process::run(args),
         Command::Trim(args) => trim::run(args),
         Command::Surface(args) => surface::run(args),
+        Command::Run(args) => run::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

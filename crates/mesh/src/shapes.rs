@@ -513,7 +513,7 @@ pub fn catalogue() -> Vec<(&'static str, TriMesh)> {
 /// Body measurements for [`dress_form`], all in millimetres; circumferences are measured
 /// horizontally. `Default` is a standard women's size (EU 38, height 168 cm).
 #[derive(Clone, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct BodyMeasurements {
     /// Body height, floor to crown (default 1680 mm); places the landmarks vertically.
     pub height_mm: f64,

@@ -1,0 +1,601 @@
+//! The run: stages in order, pieces in parallel, everything computed in memory before the
+//! output folder is touched (so a failing stage leaves no folder behind), then written with
+//! the report last.
+//!
+//! Stages: input (read or generate), clean, pieces, process (per piece), flatten (per piece),
+//! outputs. Results do not depend on the thread count: pieces are independent, collected in
+//! order, and each stage's algorithm is itself thread-count independent.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use flatcut_flattenable::{FlattenableError, Processed};
+use flatcut_io::{Format, Units, WriteOptions};
+use flatcut_lscm::{Pins, distortion, flatten_with_topology};
+use flatcut_mesh::shapes::{self, dress_form};
+use flatcut_mesh::{FaceLabels, SeamLedger, Topology, TriMesh, geometry};
+use rayon::prelude::*;
+
+use crate::pieces::{PieceMesh, split};
+use crate::progress::Progress;
+use crate::report::{
+    FileHash, FlattenSummary, InputHash, MeshCounts, OutputFile, PieceReport, ProcessSummary,
+    Report, StageTime, Timings, sha256_hex, to_json,
+};
+use crate::spec::{Generator, Pipeline, SCHEMA};
+use crate::{PipelineError, output};
+
+/// How to run a pipeline.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Output folder; default the pipeline's `output` (default `out/<name>` beside the TOML).
+    pub out: Option<PathBuf>,
+    /// Write into a folder that belongs to another pipeline or to nobody.
+    pub force: bool,
+    /// Worker threads; default rayon's (all cores, or `RAYON_NUM_THREADS`).
+    pub threads: Option<usize>,
+    /// No progress bars.
+    pub quiet: bool,
+}
+
+/// A finished run.
+#[derive(Clone, Debug)]
+pub struct RunOutcome {
+    /// Where it was written.
+    pub out_dir: PathBuf,
+    /// report.json's content.
+    pub report: Report,
+    /// timings.json's content.
+    pub timings: Timings,
+}
+
+/// Everything a run produces, before anything is written.
+pub struct Computed {
+    /// Files by path inside the output folder (sorted).
+    pub files: BTreeMap<String, Vec<u8>>,
+    /// The report (its `files` already filled).
+    pub report: Report,
+    /// Wall times.
+    pub timings: Timings,
+}
+
+/// The input files of `p` (the TOML itself and the mesh, if any), resolved.
+pub fn input_paths(p: &Pipeline) -> Vec<PathBuf> {
+    let mut v = vec![p.source.clone()];
+    if let Some(Ok(m)) = p
+        .spec
+        .input
+        .get_ref()
+        .mesh
+        .as_ref()
+        .map(|m| p.expand(m, "input.mesh"))
+    {
+        v.push(m);
+    }
+    v
+}
+
+/// Runs `p` and writes its output folder.
+pub fn run(p: &Pipeline, opts: &RunOptions) -> Result<RunOutcome, PipelineError> {
+    let out_dir = opts.out.clone().unwrap_or_else(|| p.default_output());
+    let inputs = input_paths(p);
+    // Refuse a bad folder before spending the time.
+    output::check(&out_dir, p.name(), opts.force, &inputs, &[])?;
+    let progress = Progress::new(opts.quiet, p.name());
+    let computed = with_threads(opts.threads, || compute(p, &progress))?;
+    let names: Vec<String> = computed.files.keys().cloned().collect();
+    output::check(&out_dir, p.name(), opts.force, &inputs, &names)?;
+    output::write(
+        &out_dir,
+        p.name(),
+        &computed.files,
+        &to_json(&computed.timings),
+        &to_json(&computed.report),
+    )?;
+    Ok(RunOutcome {
+        out_dir,
+        report: computed.report,
+        timings: computed.timings,
+    })
+}
+
+/// Runs `f` on a pool of `threads` workers, or on rayon's global pool.
+fn with_threads<T: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> Result<T, PipelineError> + Send,
+) -> Result<T, PipelineError> {
+    match threads {
+        None => f(),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build()
+            .map_err(|e| PipelineError::Threads {
+                threads: n,
+                reason: e.to_string(),
+            })?
+            .install(f),
+    }
+}
+
+/// The loaded surface and what it came from.
+struct Loaded {
+    mesh: TriMesh,
+    inputs: Vec<InputHash>,
+    generator: Option<serde_json::Value>,
+    units: Units,
+}
+
+fn load_input(p: &Pipeline) -> Result<Loaded, PipelineError> {
+    let input = p.spec.input.get_ref();
+    if let Some(m) = &input.mesh {
+        let path = p.expand(m, "input.mesh")?;
+        let units = p
+            .spec
+            .units
+            .unwrap_or_else(|| Format::from_extension(&path).map_or(Units::Mm, Units::default_for));
+        let located = |source: flatcut_io::IoError| {
+            let (line, column) = crate::spec::line_col(&p.text, m.span().start);
+            PipelineError::InputMesh {
+                file: p.source.clone(),
+                line,
+                column,
+                source: Box::new(source),
+            }
+        };
+        let loaded = flatcut_io::read_mesh(&path, units).map_err(located)?;
+        let bytes = std::fs::read(&path).map_err(|source| {
+            located(flatcut_io::IoError::Io {
+                path: path.clone(),
+                source,
+            })
+        })?;
+        Ok(Loaded {
+            mesh: loaded.mesh,
+            inputs: vec![InputHash {
+                key: "input.mesh".into(),
+                path: m.get_ref().display().to_string(),
+                sha256: sha256_hex(&bytes),
+                bytes: bytes.len() as u64,
+            }],
+            generator: None,
+            units,
+        })
+    } else if let Some(g) = &input.generator {
+        let bad = |message: String| p.invalid(g.span(), "input.generator", message);
+        let (mesh, kind, params) = match g.get_ref() {
+            Generator::DressForm(m) => (dress_form(m), "dress-form", serde_json::to_value(m)),
+            Generator::SphereCap(c) => {
+                if !(c.n >= 3
+                    && c.cap_angle_deg > 0.0
+                    && c.cap_angle_deg < 360.0
+                    && c.radius_mm.is_finite()
+                    && c.radius_mm > 0.0)
+                {
+                    return Err(bad(
+                        "sphere-cap needs n ≥ 3, 0 < cap_angle_deg < 360 and radius_mm > 0".into(),
+                    ));
+                }
+                let m = shapes::sphere_cap_grid(c.n, c.cap_angle_deg.to_radians(), c.radius_mm);
+                (m, "sphere-cap", serde_json::to_value(c))
+            }
+            Generator::Saddle(s) => {
+                if !(s.n >= 3
+                    && s.size_mm.is_finite()
+                    && s.size_mm > 0.0
+                    && s.curvature_per_mm.is_finite())
+                {
+                    return Err(bad(
+                        "saddle needs n ≥ 3, size_mm > 0 and a finite curvature_per_mm".into(),
+                    ));
+                }
+                let c = s.curvature_per_mm;
+                let m = shapes::grid_patch(s.n, s.n, s.size_mm, |x, y| c * (x * x - y * y));
+                (m, "saddle", serde_json::to_value(s))
+            }
+        };
+        let mut generator = params.unwrap_or_default();
+        if let Some(o) = generator.as_object_mut() {
+            o.insert("kind".into(), kind.into());
+        }
+        Ok(Loaded {
+            mesh,
+            inputs: Vec::new(),
+            generator: Some(generator),
+            units: p.spec.units.unwrap_or(Units::Mm),
+        })
+    } else {
+        // `Pipeline::parse` guarantees one of the two.
+        Err(p.invalid(
+            p.spec.input.span(),
+            "input",
+            "[input] needs `mesh` or `generator`".into(),
+        ))
+    }
+}
+
+/// Options that address vertices of one mesh cannot follow a mesh that the pipeline cuts
+/// into pieces; refuse them rather than apply them to the wrong vertices.
+fn check_stage_options(p: &Pipeline) -> Result<(), PipelineError> {
+    let bad = |key: &str, what: &str| {
+        let span = p.spec.input.span();
+        let (line, column) =
+            crate::spec::line_col(&p.text, find_key(&p.text, key).unwrap_or(span.start));
+        PipelineError::Invalid {
+            file: p.source.clone(),
+            line,
+            column,
+            key: key.to_string(),
+            message: format!(
+                "{what} name vertices of one mesh; a pipeline makes its own pieces, so this option cannot be used here"
+            ),
+        }
+    };
+    if p.spec.process.weights.is_some() {
+        return Err(bad("process.weights", "per-vertex weights"));
+    }
+    if !p.spec.process.feature_curves.is_empty() {
+        return Err(bad(
+            "process.feature_curves",
+            "feature curves given as vertex indices",
+        ));
+    }
+    if matches!(p.spec.flatten.lscm.pins, Pins::Given(_)) {
+        return Err(bad("flatten.lscm.pins", "given pins"));
+    }
+    Ok(())
+}
+
+/// Byte offset of the first line that sets the last component of a dotted `key`, for
+/// locating values serde gives no span for.
+fn find_key(text: &str, key: &str) -> Option<usize> {
+    let last = key.rsplit('.').next()?;
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let t = line.trim_start();
+        if let Some(rest) = t.strip_prefix(last)
+            && rest.trim_start().starts_with('=')
+        {
+            return Some(offset + (line.len() - t.len()));
+        }
+        offset += line.len();
+    }
+    None
+}
+
+/// Per piece: the processing result and whether it converged.
+struct ProcessedPiece {
+    processed: Processed,
+    converged: bool,
+    seconds: f64,
+}
+
+fn process_piece(p: &Pipeline, piece: &PieceMesh) -> Result<ProcessedPiece, PipelineError> {
+    let start = Instant::now();
+    let (processed, converged) = match flatcut_flattenable::process(&piece.mesh, &p.spec.process) {
+        Ok(r) => (r, true),
+        // The best unfolded state is still the most flattenable surface we have: carry on
+        // with it, mark the piece and warn.
+        Err(FlattenableError::NotConverged { partial, .. }) => (*partial, false),
+        Err(source) => {
+            return Err(PipelineError::Process {
+                piece: piece.name.clone(),
+                source: Box::new(source),
+            });
+        }
+    };
+    Ok(ProcessedPiece {
+        processed,
+        converged,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Per piece: the placed pattern and its distortion.
+struct FlatPiece {
+    uv: Vec<[f64; 2]>,
+    summary: FlattenSummary,
+    seconds: f64,
+}
+
+fn flatten_piece(
+    p: &Pipeline,
+    piece: &PieceMesh,
+    mesh: &TriMesh,
+    topo: &Topology,
+) -> Result<FlatPiece, PipelineError> {
+    let start = Instant::now();
+    let mut opts = p.spec.flatten.clone();
+    if let Some(g) = piece
+        .spec
+        .and_then(|i| p.spec.pieces[i].get_ref().grain.as_ref())
+    {
+        opts.placement.grain = Some(*g.get_ref());
+    }
+    let err = |source: flatcut_lscm::LscmError| PipelineError::Flatten {
+        piece: piece.name.clone(),
+        source: Box::new(source),
+    };
+    let out = flatten_with_topology(mesh, topo, &opts).map_err(err)?;
+    let uv = out.flattening.uv;
+    if let Some(v) = uv
+        .iter()
+        .position(|q| !(q[0].is_finite() && q[1].is_finite()))
+    {
+        return Err(err(flatcut_lscm::LscmError::Mesh(
+            flatcut_mesh::MeshError::NonFinitePosition {
+                vertex: flatcut_mesh::VertexId(v as u32),
+                position: [uv[v][0], uv[v][1], 0.0],
+            },
+        )));
+    }
+    let d = distortion(mesh, topo, &uv);
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for q in &uv {
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    let summary = FlattenSummary {
+        method: match opts.method {
+            flatcut_lscm::Method::Lscm => "lscm".into(),
+            flatcut_lscm::Method::LscmArap => "lscm+arap".into(),
+        },
+        e_h: d.e_h,
+        e_r: d.e_r,
+        edge_strain: d.edge_strain,
+        max_edge_strain: d.max_edge_strain,
+        area_3d_mm2: d.area_3d_mm2,
+        area_2d_mm2: d.area_2d_mm2,
+        flipped_faces: d.flipped_faces,
+        boundary_3d_mm: d.boundary_loops.iter().map(|l| l.length_3d_mm).sum(),
+        boundary_2d_mm: d.boundary_loops.iter().map(|l| l.length_2d_mm).sum(),
+        size_mm: [hi[0] - lo[0], hi[1] - lo[1]],
+    };
+    Ok(FlatPiece {
+        uv,
+        summary,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Runs every stage in memory.
+pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineError> {
+    let t0 = Instant::now();
+    let mut timings = Timings {
+        pipeline: p.name().to_string(),
+        threads: rayon::current_num_threads(),
+        ..Default::default()
+    };
+    let stage_done = |timings: &mut Timings, name: &str, since: Instant| {
+        timings.stages.push(StageTime {
+            stage: name.into(),
+            seconds: since.elapsed().as_secs_f64(),
+        });
+    };
+    check_stage_options(p)?;
+
+    let t = Instant::now();
+    let bar = progress.stage("input", 0);
+    let loaded = load_input(p)?;
+    bar.finish();
+    stage_done(&mut timings, "input", t);
+
+    let t = Instant::now();
+    let bar = progress.stage("clean", 0);
+    let (mesh, clean_report, _map) =
+        flatcut_mesh::clean::clean(&loaded.mesh, &p.spec.input.get_ref().clean).map_err(
+            |source| PipelineError::Clean {
+                file: p.source.clone(),
+                source: Box::new(source),
+            },
+        )?;
+    bar.finish();
+    stage_done(&mut timings, "clean", t);
+
+    let t = Instant::now();
+    let bar = progress.stage("pieces", 0);
+    let topo = Topology::build(&mesh).map_err(|source| PipelineError::Clean {
+        file: p.source.clone(),
+        source: Box::new(source),
+    })?;
+    let (pieces, dropped) = split(p, &mesh, &topo, loaded.units.factor_to_mm())?;
+    bar.finish();
+    stage_done(&mut timings, "pieces", t);
+
+    let t = Instant::now();
+    let bar = progress.stage("process", pieces.len() as u64);
+    let processed: Vec<ProcessedPiece> = pieces
+        .par_iter()
+        .map(|piece| {
+            let r = process_piece(p, piece);
+            bar.inc(1);
+            r
+        })
+        .collect::<Result<_, _>>()?;
+    bar.finish();
+    stage_done(&mut timings, "process", t);
+
+    let t = Instant::now();
+    let bar = progress.stage("flatten", pieces.len() as u64);
+    let flat: Vec<(Topology, FlatPiece)> = pieces
+        .par_iter()
+        .zip(&processed)
+        .map(|(piece, pr)| {
+            let m = &pr.processed.mesh;
+            let topo = Topology::build(m).map_err(|source| PipelineError::Flatten {
+                piece: piece.name.clone(),
+                source: Box::new(source.into()),
+            })?;
+            let f = flatten_piece(p, piece, m, &topo)?;
+            bar.inc(1);
+            Ok((topo, f))
+        })
+        .collect::<Result<_, PipelineError>>()?;
+    bar.finish();
+    stage_done(&mut timings, "flatten", t);
+
+    let t = Instant::now();
+    let bar = progress.stage("outputs", 0);
+    let mut files = BTreeMap::new();
+    let mut warnings = Vec::new();
+    files.insert(
+        "processed.glb".to_string(),
+        processed_glb(&pieces, &processed, &flat)?,
+    );
+    for (piece, (_, f)) in pieces.iter().zip(&flat) {
+        let name = format!("pieces/{}.obj", piece.name);
+        let pattern = TriMesh {
+            positions: f.uv.iter().map(|q| [q[0], q[1], 0.0]).collect(),
+            faces: piece.mesh.faces.clone(),
+            attributes: flatcut_mesh::VertexAttributes {
+                texcoords: Some(f.uv.clone()),
+                ..Default::default()
+            },
+            face_labels: None,
+        };
+        let bytes = flatcut_io::write_mesh_to_vec(
+            &pattern,
+            Format::Obj,
+            &WriteOptions {
+                units: Some(Units::Mm),
+                ..Default::default()
+            },
+        )
+        .map_err(|source| PipelineError::Encode {
+            name: name.clone(),
+            source: Box::new(source),
+        })?;
+        files.insert(name, bytes);
+    }
+    let seams = SeamLedger::new(pieces.iter().map(|p| p.name.clone()).collect());
+    let mut seams_json = serde_json::to_string_pretty(&seams).unwrap_or_default();
+    seams_json.push('\n');
+    files.insert("seams.json".into(), seams_json.into_bytes());
+
+    let mut piece_reports = Vec::with_capacity(pieces.len());
+    for ((piece, pr), (ftopo, f)) in pieces.iter().zip(&processed).zip(&flat) {
+        let r = pr.processed.report.pieces.first();
+        let spec = piece.spec.map(|i| p.spec.pieces[i].get_ref());
+        if !pr.converged {
+            warnings.push(format!(
+                "piece {:?}: processing did not reach θ_err ≤ {:.1e} rad (best {:.3e} rad); the best unfolded state was flattened",
+                piece.name,
+                p.spec.process.tolerance_rad,
+                pr.processed.report.final_theta_err
+            ));
+        }
+        if f.summary.flipped_faces > 0 {
+            warnings.push(format!(
+                "piece {:?}: {} faces are flipped in the pattern (it folds over itself); a piece that is not a disk has no fold-free flattening: cut it into disks",
+                piece.name, f.summary.flipped_faces
+            ));
+        }
+        piece_reports.push(PieceReport {
+            name: piece.name.clone(),
+            faces: piece.mesh.face_count(),
+            vertices: piece.mesh.vertex_count(),
+            boundary_loops: ftopo.boundary_loops().len(),
+            euler_characteristic: ftopo.euler_characteristic(),
+            quantity: spec.map_or(1, |s| s.quantity),
+            mirror: spec.is_some_and(|s| s.mirror),
+            process: ProcessSummary {
+                converged: pr.converged,
+                iterations: r.map_or(0, |r| r.iterations),
+                theta_err_before: r.and_then(|r| r.theta_err.first().copied()).unwrap_or(0.0),
+                theta_err_after: pr.processed.report.final_theta_err,
+                theta_rms_after: pr.processed.report.final_theta_rms,
+                rms_displacement_mm: pr.processed.report.rms_displacement_mm,
+                max_displacement_mm: pr.processed.report.max_displacement_mm,
+                area_change_percent: pr.processed.report.area_change_percent,
+                stop_reason: r.map(|r| r.stop_reason.clone()).unwrap_or_default(),
+                theta_err_history: r.map(|r| r.theta_err.clone()).unwrap_or_default(),
+            },
+            flatten: f.summary.clone(),
+        });
+        let mut per = BTreeMap::new();
+        per.insert("process".to_string(), pr.seconds);
+        per.insert("flatten".to_string(), f.seconds);
+        timings.pieces.insert(piece.name.clone(), per);
+    }
+    for d in &dropped {
+        warnings.push(format!(
+            "component {} ({} faces) contains no [[piece]] seed and was left out",
+            d.component, d.faces
+        ));
+    }
+    let report = Report {
+        flatcut_version: env!("CARGO_PKG_VERSION").into(),
+        schema: SCHEMA,
+        pipeline: p.name().into(),
+        toml: FileHash {
+            path: p.source.display().to_string(),
+            sha256: sha256_hex(p.text.as_bytes()),
+        },
+        inputs: loaded.inputs,
+        generator: loaded.generator,
+        units: loaded.units.name().into(),
+        input_mesh: MeshCounts {
+            vertices: loaded.mesh.vertex_count(),
+            faces: loaded.mesh.face_count(),
+        },
+        clean: clean_report,
+        dropped_components: dropped,
+        pieces: piece_reports,
+        seams,
+        files: files
+            .iter()
+            .map(|(name, bytes)| OutputFile {
+                name: name.clone(),
+                bytes: bytes.len(),
+                sha256: sha256_hex(bytes),
+            })
+            .collect(),
+        warnings,
+    };
+    bar.finish();
+    stage_done(&mut timings, "outputs", t);
+    timings.total_seconds = t0.elapsed().as_secs_f64();
+    Ok(Computed {
+        files,
+        report,
+        timings,
+    })
+}
+
+/// All processed pieces in one GLB (metres, as glTF fixes), one group per piece, vertices
+/// coloured by |θ − 2π| (0 on the boundary).
+fn processed_glb(
+    pieces: &[PieceMesh],
+    processed: &[ProcessedPiece],
+    flat: &[(Topology, FlatPiece)],
+) -> Result<Vec<u8>, PipelineError> {
+    let mut all = TriMesh::default();
+    let mut scalar = Vec::new();
+    let mut labels = FaceLabels::default();
+    for (i, ((piece, pr), (topo, _))) in pieces.iter().zip(processed).zip(flat).enumerate() {
+        let m = &pr.processed.mesh;
+        let base = all.positions.len() as u32;
+        all.positions.extend_from_slice(&m.positions);
+        all.faces
+            .extend(m.faces.iter().map(|f| f.map(|v| v + base)));
+        scalar.extend(
+            geometry::angle_defects(&m.positions, &m.faces, topo)
+                .iter()
+                .map(|d| d.map_or(0.0, f64::abs)),
+        );
+        labels.names.push(piece.name.clone());
+        labels
+            .labels
+            .extend(std::iter::repeat_n(i as u32, m.face_count()));
+    }
+    all.attributes.scalar = Some(scalar);
+    all.face_labels = Some(labels);
+    flatcut_io::write_mesh_to_vec(&all, Format::Glb, &WriteOptions::default()).map_err(|source| {
+        PipelineError::Encode {
+            name: "processed.glb".into(),
+            source: Box::new(source),
+        }
+    })
+}

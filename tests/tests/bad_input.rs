@@ -1,0 +1,212 @@
+//! Bad pipeline input gives a clear error naming the key and its line, and never leaves an
+//! output folder that looks complete.
+// Test helpers unwrap: a failure is a test failure with its message.
+#![allow(clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+
+use flatcut_pipeline::{Pipeline, PipelineError, RunOptions};
+
+const GOOD: &str = r#"schema = 1
+name = "t"
+
+[input]
+generator = { kind = "sphere-cap", n = 7 }
+"#;
+
+fn parse(text: &str) -> Result<Pipeline, PipelineError> {
+    Pipeline::parse(text, Path::new("t.toml"), Path::new("."))
+}
+
+fn run_in(text: &str, dir: &Path, out: &Path, force: bool) -> Result<(), PipelineError> {
+    let toml = dir.join("t.toml");
+    std::fs::write(&toml, text).unwrap();
+    let p = Pipeline::read(&toml)?;
+    flatcut_pipeline::run(
+        &p,
+        &RunOptions {
+            out: Some(out.to_path_buf()),
+            force,
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .map(|_| ())
+}
+
+#[test]
+fn an_unknown_key_names_the_key_its_line_and_what_is_allowed() {
+    let text = GOOD.replace("name = \"t\"", "name = \"t\"\ncolour = \"red\"");
+    let e = parse(&text).unwrap_err().to_string();
+    assert!(e.starts_with("t.toml:3:1:"), "{e}");
+    assert!(e.contains("colour") && e.contains("input"), "{e}");
+
+    // Inside a stage table: the key of that crate's options struct.
+    let text = format!("{GOOD}\n[process]\nmode = \"robust\"\ntolerance = 1e-9\n");
+    let e = parse(&text).unwrap_err().to_string();
+    assert!(e.starts_with("t.toml:9:1:"), "{e}");
+    assert!(
+        e.contains("tolerance") && e.contains("tolerance_rad"),
+        "{e}"
+    );
+
+    // A wrong value names what is allowed.
+    let text = format!("{GOOD}\n[flatten]\nmethod = \"arap\"\n");
+    let e = parse(&text).unwrap_err().to_string();
+    assert!(e.starts_with("t.toml:8:10:"), "{e}");
+    assert!(e.contains("lscm+arap"), "{e}");
+
+    // A wrong type.
+    let e = parse(&GOOD.replace("schema = 1", "schema = \"1\""))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("t.toml:1:10:"), "{e}");
+
+    // An unknown generator parameter: the line of the generator.
+    let e = parse(&GOOD.replace("n = 7", "n = 7, chest_mm = 900"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("t.toml:5:"), "{e}");
+    assert!(e.contains("chest_mm"), "{e}");
+}
+
+#[test]
+fn inconsistent_values_are_refused_with_their_line() {
+    let e = parse(&GOOD.replace("schema = 1", "schema = 2"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("t.toml:1:10: schema:"), "{e}");
+    let e = parse(&GOOD.replace("generator", "mesh = \"a.obj\"\ngenerator"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("t.toml:6:") && e.contains("not both"), "{e}");
+    let two = format!(
+        "{GOOD}\n[[piece]]\nname = \"a\"\nseed = [0, 0, 200]\n\n[[piece]]\nname = \"a\"\nseed = [0, 0, 200]\n"
+    );
+    let e = parse(&two).unwrap_err().to_string();
+    assert!(e.contains("t.toml:12:") && e.contains("line 8"), "{e}");
+    let e = parse(&GOOD.replace("name = \"t\"", "name = \"../x\""))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("t.toml:2:8: name:"), "{e}");
+}
+
+#[test]
+fn seeds_off_the_surface_or_sharing_a_piece_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    // The cap's pole is at (0, 0, 200): 50 mm above it lies in no piece.
+    let text = format!("{GOOD}\n[[piece]]\nname = \"a\"\nseed = [0, 0, 250]\n");
+    let e = run_in(&text, tmp.path(), &out, false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("t.toml:9:8: piece.seed:") && e.contains("50.000 mm"),
+        "{e}"
+    );
+    assert!(!out.exists(), "a failed run must leave no output folder");
+    let text = format!(
+        "{GOOD}\n[[piece]]\nname = \"a\"\nseed = [0, 0, 200]\n\n[[piece]]\nname = \"b\"\nseed = [1, 0, 200]\n"
+    );
+    let e = run_in(&text, tmp.path(), &out, false)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("t.toml:13:") && e.contains("\"a\""), "{e}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_missing_mesh_names_the_file_and_the_toml_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let text = "schema = 1\nname = \"t\"\n[input]\nmesh = \"scans/none.obj\"\n";
+    let e = run_in(text, tmp.path(), &out, false)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("t.toml:4:8: input.mesh:"), "{e}");
+    assert!(e.contains("none.obj"), "{e}");
+    assert!(!out.exists());
+    // An unset environment variable in a path.
+    let text = "schema = 1\nname = \"t\"\n[input]\nmesh = \"${FLATCUT_NO_SUCH_VAR}/a.obj\"\n";
+    let e = run_in(text, tmp.path(), &out, false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("t.toml:4:8:") && e.contains("FLATCUT_NO_SUCH_VAR"),
+        "{e}"
+    );
+}
+
+#[test]
+fn relative_mesh_paths_are_relative_to_the_toml() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sub = tmp.path().join("recipes");
+    std::fs::create_dir_all(sub.join("scans")).unwrap();
+    let cap = flatcut_mesh::shapes::sphere_cap_grid(7, 1.0, 200.0);
+    flatcut_io::write_mesh(&sub.join("scans/cap.obj"), &cap, &Default::default()).unwrap();
+    let text = "schema = 1\nname = \"t\"\n[input]\nmesh = \"scans/cap.obj\"\n";
+    let out = tmp.path().join("out");
+    run_in(text, &sub, &out, false).unwrap();
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["inputs"][0]["path"], "scans/cap.obj");
+    assert_eq!(report["inputs"][0]["key"], "input.mesh");
+    assert_eq!(report["input_mesh"]["faces"], 72);
+}
+
+#[test]
+fn output_folder_rules() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A file where the folder should be.
+    let file = tmp.path().join("taken");
+    std::fs::write(&file, "x").unwrap();
+    let e = run_in(GOOD, tmp.path(), &file, false).unwrap_err();
+    assert!(matches!(e, PipelineError::OutputIsFile { .. }), "{e}");
+    assert_eq!(std::fs::read(&file).unwrap(), b"x");
+
+    // A folder of another pipeline is refused without --force, kept intact.
+    let out: PathBuf = tmp.path().join("out");
+    run_in(GOOD, tmp.path(), &out, false).unwrap();
+    let other = GOOD.replace("name = \"t\"", "name = \"other\"");
+    let before = std::fs::read(out.join("report.json")).unwrap();
+    let e = run_in(&other, tmp.path(), &out, false).unwrap_err();
+    assert!(
+        matches!(&e, PipelineError::OutputForeign { owner: Some(o), .. } if o == "t"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read(out.join("report.json")).unwrap(), before);
+    // …and taken over with --force.
+    run_in(&other, tmp.path(), &out, true).unwrap();
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(r["pipeline"], "other");
+
+    // A non-empty folder flatcut did not write.
+    let mine = tmp.path().join("mine");
+    std::fs::create_dir_all(&mine).unwrap();
+    std::fs::write(mine.join("notes.txt"), "keep").unwrap();
+    let e = run_in(GOOD, tmp.path(), &mine, false).unwrap_err();
+    assert!(
+        matches!(e, PipelineError::OutputForeign { owner: None, .. }),
+        "{e}"
+    );
+    assert_eq!(std::fs::read(mine.join("notes.txt")).unwrap(), b"keep");
+
+    // An input inside the output folder under an output's name is never overwritten, even
+    // with --force.
+    let clash = tmp.path().join("clash");
+    std::fs::create_dir_all(&clash).unwrap();
+    let cap = flatcut_mesh::shapes::sphere_cap_grid(7, 1.0, 200.0);
+    flatcut_io::write_mesh(&clash.join("processed.glb"), &cap, &Default::default()).unwrap();
+    let input_bytes = std::fs::read(clash.join("processed.glb")).unwrap();
+    let text = "schema = 1\nname = \"t\"\nunits = \"m\"\n[input]\nmesh = \"clash/processed.glb\"\n";
+    let e = run_in(text, tmp.path(), &clash, true).unwrap_err();
+    assert!(
+        matches!(e, PipelineError::WouldOverwriteInput { .. }),
+        "{e}"
+    );
+    assert_eq!(
+        std::fs::read(clash.join("processed.glb")).unwrap(),
+        input_bytes
+    );
+}
