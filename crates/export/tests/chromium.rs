@@ -56,13 +56,25 @@ fn sheet_svg_renders_at_true_size_in_chromium() {
         .unwrap();
     assert!(status.success(), "chromium failed: {status}");
     let pm = tiny_skia::Pixmap::load_png(&png).unwrap();
-    // The square is the only pure-blue fill; measure its extent in both directions.
+    // Measure the blue square's extent in a window 8 mm larger than it on every side (grain
+    // lines are blue too, and lie outside that window: the layout keeps a 10 mm gap).
+    let ts = lay.test_square;
+    let win = |lo_mm: f64, hi_mm: f64| {
+        (
+            (lo_mm * CSS_PX_PER_MM).floor().max(0.0) as u32,
+            (hi_mm * CSS_PX_PER_MM).ceil() as u32,
+        )
+    };
+    let (x0, x1) = win(ts[0] - 8.0, ts[0] + 58.0);
+    let top = lay.height_mm - ts[1] - 50.0;
+    let (y0, y1) = win(top - 8.0, top + 58.0);
     let blue = |x: u32, y: u32| {
         let p = pm.pixel(x, y).unwrap();
         p.blue() > 200 && p.red() < 60 && p.green() < 60
     };
     let pts: Vec<(u32, u32)> = (0..pm.height())
-        .flat_map(|y| (0..pm.width()).map(move |x| (x, y)))
+        .filter(|y| (y0..y1).contains(y))
+        .flat_map(|y| (x0..x1.min(pm.width())).map(move |x| (x, y)))
         .filter(|&(x, y)| blue(x, y))
         .collect();
     assert!(!pts.is_empty(), "no test square in the screenshot");
@@ -70,6 +82,7 @@ fn sheet_svg_renders_at_true_size_in_chromium() {
     let wpx = span(pts.iter().map(|p| p.0).collect());
     let hpx = span(pts.iter().map(|p| p.1).collect());
     let want = 50.0 * CSS_PX_PER_MM; // 188.98 px
+    eprintln!("test square: {wpx} × {hpx} px, want {want:.2}");
     // One pixel of antialiasing either way.
     assert!(
         (wpx - want).abs() <= 1.5,
