@@ -37,6 +37,11 @@ pub struct ExportArgs {
     /// The seam ledger (seams.json) of these pieces: notches on mates, darts, per-seam widths.
     #[arg(long)]
     pub seams: Option<PathBuf>,
+    /// Per-piece metadata as JSON: `{"NAME": {"size": "38", "quantity": 2, "mirror": true,
+    /// "fabric": "neoprene", "grain_3d": [0, 1, 0], "shrink_along_grain": 0,
+    /// "shrink_across_grain": -0.05}}` (every field optional).
+    #[arg(long)]
+    pub meta: Option<PathBuf>,
     /// Seam allowance, mm.
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     pub seam_allowance_mm: f64,
@@ -243,7 +248,7 @@ fn vertex_e_h(p: &PatternPiece) -> Vec<f64> {
 /// Runs `flatcut export`.
 pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
     let fmts = formats(&args.formats)?;
-    let inputs: Vec<PieceInput> = args
+    let mut inputs: Vec<PieceInput> = args
         .pieces
         .iter()
         .map(|a| read_piece(a, args.units))
@@ -254,6 +259,28 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
             bail!(
                 "two pieces are named '{}' (from their file names): rename one",
                 p.name
+            );
+        }
+    }
+    if let Some(path) = &args.meta {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        let mut meta: std::collections::BTreeMap<String, PieceMeta> = serde_json::from_str(&text)
+            .with_context(|| {
+            format!(
+                "{}: not a piece-metadata JSON object (name → fields)",
+                path.display()
+            )
+        })?;
+        for p in &mut inputs {
+            if let Some(m) = meta.remove(&p.name) {
+                p.meta = m;
+            }
+        }
+        if let Some(name) = meta.keys().next() {
+            bail!(
+                "{}: piece '{name}' is not among the pieces given (they are named after their files)",
+                path.display()
             );
         }
     }

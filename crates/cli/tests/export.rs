@@ -145,9 +145,17 @@ fn two_pieces_with_a_ledger() {
         "length_3d_mm":250.0,"start_mm":[100,0,0],"end_mm":[100,250,0]}]}"#,
     )
     .unwrap();
+    let meta = dir.path().join("meta.json");
+    std::fs::write(
+        &meta,
+        r#"{"left": {"size": "M", "quantity": 2, "mirror": true, "shrink_across_grain": -0.05}}"#,
+    )
+    .unwrap();
     let out = dir.path().join("out");
     let st = flatcut()
         .args(["export"])
+        .arg("--meta")
+        .arg(&meta)
         .arg(&left)
         .arg(&right)
         .arg("--seams")
@@ -170,6 +178,13 @@ fn two_pieces_with_a_ledger() {
     }
     let svg = std::fs::read_to_string(out.join("right.svg")).unwrap();
     assert!(svg.contains("data-seam-id=\"centre/0\""));
+    // The left piece: −5 % across the grain (x), cut as a mirrored pair.
+    let l = &report["pieces"][0];
+    assert!((l["area_mm2"].as_f64().unwrap() - 0.95 * 25_000.0).abs() < 1e-6);
+    let svg = std::fs::read_to_string(out.join("left.svg")).unwrap();
+    assert!(svg.contains(">cut 2, mirrored<") && svg.contains(">size M<"));
+    let sheet = std::fs::read_to_string(out.join("sheet.svg")).unwrap();
+    assert!(sheet.contains("id=\"left-1\"") && sheet.contains("id=\"right-0\""));
 }
 
 #[test]
