@@ -333,3 +333,41 @@ fn refusals_name_the_problem() {
         "{e}"
     );
 }
+
+#[test]
+fn grain_from_3d_on_a_curved_piece() {
+    // The front cylinder half unrolled, then turned by 30° in the plane: with the grain along
+    // the cylinder's axis (z), the pattern turns it back so the seams (3D lines along z) are
+    // vertical again.
+    let (mut pieces, _) = cylinder_halves();
+    let mut front = pieces.remove(0);
+    let (s, c) = 30f64.to_radians().sin_cos();
+    for q in &mut front.uv {
+        *q = [c * q[0] - s * q[1], s * q[0] + c * q[1]];
+    }
+    front.meta.grain_3d = Some([0.0, 0.0, 1.0]);
+    let out = build_pieces(&[front], None, &PatternOptions::default()).unwrap();
+    let p = &out[0];
+    assert!(
+        (p.rotation_rad + 30f64.to_radians()).abs() < 1e-9,
+        "{}",
+        p.rotation_rad
+    );
+    let (nu, nz) = (13usize, 21usize);
+    for col in [0, nu - 1] {
+        let a = p.uv[col];
+        let b = p.uv[(nz - 1) * nu + col];
+        assert!(
+            (a[0] - b[0]).abs() < 1e-9 && b[1] - a[1] > 299.0,
+            "{a:?} {b:?}"
+        );
+    }
+    // A grain normal to the whole piece has no direction in the pattern.
+    let flat = flat_piece("flat", grid(0.0, 10.0, 10.0, 2, 2));
+    let mut f = flat.clone();
+    f.meta.grain_3d = Some([0.0, 0.0, 1.0]);
+    assert!(matches!(
+        build_pieces(&[f], None, &PatternOptions::default()),
+        Err(PatternError::GrainNormalToPiece { .. })
+    ));
+}
