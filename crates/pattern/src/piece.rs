@@ -21,6 +21,10 @@ pub const MAX_SHRINK: f64 = 0.5;
 /// sew line.
 pub const NOTCH_MAX_FRACTION: f64 = 0.6;
 
+/// Width of a label character as a fraction of the text height (sans-serif average), used
+/// to keep the grain line clear of the label.
+const LABEL_CHAR_WIDTH: f64 = 0.6;
+
 /// What the cutting room needs to know about one piece besides its shape.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
@@ -734,7 +738,6 @@ fn finish(
 
     // Label and grain line around an inside point.
     let inside = inside_point(&prep.uv, &input.mesh.faces, &prep.sew);
-    let grain_line = grain_line(&prep.sew, inside);
     let meta = &input.meta;
     let mut lines = vec![input.name.clone()];
     if !meta.size.is_empty() {
@@ -748,11 +751,23 @@ fn finish(
     if !meta.fabric.is_empty() {
         lines.push(meta.fabric.clone());
     }
+    // The label block is centred on the inside point; the grain line runs one text height to
+    // its left when that is still inside the piece, else through the label.
+    let h = opts.label_height_mm;
+    let chars = lines.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    let text_w = LABEL_CHAR_WIDTH * h * chars as f64;
     let label = Label {
-        at: [inside[0] + opts.label_height_mm, inside[1]],
-        height_mm: opts.label_height_mm,
+        at: [inside[0] - 0.5 * text_w, inside[1]],
+        height_mm: h,
         lines,
     };
+    let beside = [inside[0] - 0.5 * text_w - h, inside[1]];
+    let grain_at = if point_in_polygon(beside, &prep.sew) {
+        beside
+    } else {
+        inside
+    };
+    let grain_line = grain_line(&prep.sew, grain_at);
     let mut internal_lines = Vec::new();
     for (k, l) in input.internal_lines.iter().enumerate() {
         let mut pts = Vec::with_capacity(l.len());
