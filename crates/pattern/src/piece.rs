@@ -458,6 +458,12 @@ fn prepare(input: &PieceInput) -> Result<Prepared, PatternError> {
             "it has no boundary (a closed surface); cut it open before making a pattern".into(),
         ));
     }
+    if topo.component_count() > 1 {
+        return Err(bad(format!(
+            "it has {} separate parts; give each part as its own piece (one file each)",
+            topo.component_count()
+        )));
+    }
     if !topo.open_boundary_chains().is_empty() {
         return Err(bad(
             "its boundary does not close into loops (non-manifold or inconsistently oriented edges); run flatcut clean".into(),

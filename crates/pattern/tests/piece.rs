@@ -304,6 +304,16 @@ fn refusals_name_the_problem() {
         Err(PatternError::BadOption { .. })
     ));
 
+    // Two parts in one piece would lose one of them: refused.
+    let mut two = grid(0.0, 30.0, 60.0, 3, 3);
+    let other = grid(100.0, 30.0, 60.0, 3, 3);
+    let off = two.positions.len() as u32;
+    two.positions.extend(other.positions);
+    two.faces
+        .extend(other.faces.iter().map(|f| f.map(|v| v + off)));
+    let e = build_pieces(&[flat_piece("two", two)], None, &PatternOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("2 separate parts"), "{e}");
+
     let mut ledger = SeamLedger::new(vec!["small".into(), "ghost".into()]);
     ledger.seams.push(seam(
         "s/0",
