@@ -93,6 +93,12 @@ pub struct PatternOptions {
     pub corner: CornerRule,
     /// Rule where a dart leg meets the outline (default mirrored about the leg).
     pub dart_corner: CornerRule,
+    /// Allowance of edges on no seam of the ledger (hems, facings), mm (default `None`: the
+    /// seam allowance).
+    pub free_edge_allowance_mm: Option<f64>,
+    /// Rule where a seam meets a free edge (default `None`: the `corner` rule); `mirrored`
+    /// folds about the free edge, as a hem turned up needs.
+    pub hem_corner: Option<CornerRule>,
     /// A convex vertex turning by at least this much is a corner (default 0.35 rad ≈ 20°);
     /// gentler vertices are joined round, the exact parallel curve of a smooth outline.
     pub corner_angle_rad: f64,
@@ -112,6 +118,8 @@ impl Default for PatternOptions {
             seam_overrides: BTreeMap::new(),
             corner: CornerRule::default(),
             dart_corner: CornerRule::Mirrored,
+            free_edge_allowance_mm: None,
+            hem_corner: None,
             corner_angle_rad: 0.35,
             notch_spacing_mm: 100.0,
             notch_depth_mm: 6.0,
@@ -279,10 +287,18 @@ fn check_width(what: String, value: f64) -> Result<(), PatternError> {
 
 fn check_options(opts: &PatternOptions) -> Result<(), PatternError> {
     check_width("seam_allowance_mm".into(), opts.seam_allowance_mm)?;
+    if let Some(w) = opts.free_edge_allowance_mm {
+        check_width("free_edge_allowance_mm".into(), w)?;
+    }
     for (id, w) in &opts.seam_overrides {
         check_width(format!("seam_overrides[{id:?}]"), *w)?;
     }
-    for (name, rule) in [("corner", opts.corner), ("dart_corner", opts.dart_corner)] {
+    let hem = opts.hem_corner.unwrap_or_default();
+    for (name, rule) in [
+        ("corner", opts.corner),
+        ("dart_corner", opts.dart_corner),
+        ("hem_corner", hem),
+    ] {
         if let CornerRule::Miter { limit } = rule {
             if !(limit.is_finite() && limit >= 1.0) {
                 return Err(PatternError::BadOption {
@@ -629,7 +645,12 @@ fn finish(
     opts: &PatternOptions,
 ) -> Result<PatternPiece, PatternError> {
     let n = prep.sew.len();
-    let mut widths = vec![opts.seam_allowance_mm; n];
+    let mut widths = vec![
+        opts.free_edge_allowance_mm
+            .unwrap_or(opts.seam_allowance_mm);
+        n
+    ];
+    let mut on_seam = vec![false; n];
     let default_corner = CornerSpec {
         rule: opts.corner,
         fold_next: true,
@@ -651,6 +672,7 @@ fn finish(
                 side.idx[k + 1]
             };
             widths[e] = w;
+            on_seam[e] = true;
         }
         if seam.kind == SeamKind::Dart {
             // The mouth vertex is the chain's last; its leg edge is the chain's last edge.
@@ -661,6 +683,18 @@ fn finish(
                 rule: opts.dart_corner,
                 fold_next: !side.forward,
             };
+        }
+    }
+    if let Some(rule) = opts.hem_corner {
+        // Where a seam meets a free edge (a hem), fold about the free edge.
+        for i in 0..n {
+            let (inc, out) = (on_seam[(i + n - 1) % n], on_seam[i]);
+            if inc != out && corners[i] == default_corner {
+                corners[i] = CornerSpec {
+                    rule,
+                    fold_next: !out,
+                };
+            }
         }
     }
     let b = bbox(&prep.sew);

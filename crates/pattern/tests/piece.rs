@@ -191,6 +191,53 @@ fn rectangle_cut_in_two_with_a_dart_and_an_override() {
 }
 
 #[test]
+fn hems_take_their_own_width_and_mirrored_corners() {
+    // A skirt panel, wider at the hem: side seams slant outward to the hem at y = 0.
+    let mesh = TriMesh {
+        positions: vec![
+            [0.0, 0.0, 0.0],
+            [200.0, 0.0, 0.0],
+            [170.0, 150.0, 0.0],
+            [30.0, 150.0, 0.0],
+        ],
+        faces: vec![[0, 1, 2], [0, 2, 3]],
+        ..Default::default()
+    };
+    let p = flat_piece("skirt", mesh.clone());
+    let mut ledger = SeamLedger::new(vec!["skirt".into(), "other".into()]);
+    let other = flat_piece("other", grid(300.0, 100.0, 150.0, 2, 2));
+    ledger.seams.push(seam(
+        "side/0",
+        SeamKind::Seam,
+        ("skirt", vec![1, 2]),
+        ("other", vec![0, 2]),
+    ));
+    let opts = PatternOptions {
+        free_edge_allowance_mm: Some(30.0),
+        hem_corner: Some(flatcut_pattern::CornerRule::Mirrored),
+        ..Default::default()
+    };
+    let out = build_pieces(&[p, other], Some(&ledger), &opts).unwrap();
+    let cut = &out[0].cut_line;
+    // The hem (free) gets 30 mm: the cut line reaches y = −30.
+    let lo = cut.iter().map(|q| q[1]).fold(f64::MAX, f64::min);
+    assert!((lo + 30.0).abs() < 1e-5, "{lo}");
+    // At (200, 0) the side seam (10 mm) meets the hem: the hem allowance's right end is the
+    // mirror about y = 0 of the side seam's cut line, so it lies on that mirrored line.
+    let d = flatcut_pattern::geom::unit([170.0 - 200.0, 150.0]);
+    let n = [d[1], -d[0]];
+    let on_mirror = |q: [f64; 2]| {
+        let r = [q[0] - 200.0, -q[1]];
+        (r[0] * n[0] + r[1] * n[1] - 10.0).abs() < 1e-5
+    };
+    assert!(
+        cut.iter()
+            .any(|q| q[1] < -1.0 && q[0] > 200.0 && on_mirror(*q)),
+        "{cut:?}"
+    );
+}
+
+#[test]
 fn grain_and_shrink() {
     // A flat piece whose 3D grain runs along x: the pattern turns it to +y.
     let mut p = flat_piece("panel", grid(0.0, 200.0, 50.0, 5, 3));
