@@ -42,9 +42,13 @@ pub struct ExportArgs {
     /// "shrink_across_grain": -0.05}}` (every field optional).
     #[arg(long)]
     pub meta: Option<PathBuf>,
-    /// Seam allowance, mm.
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
-    pub seam_allowance_mm: f64,
+    /// Pattern options as JSON (the fields of `flatcut_pattern::PatternOptions`: seam_overrides,
+    /// free_edge_allowance_mm, corner, dart_corner, hem_corner, notch_spacing_mm, ...).
+    #[arg(long)]
+    pub pattern_options: Option<PathBuf>,
+    /// Seam allowance, mm (overrides the options file; default 10).
+    #[arg(long, allow_negative_numbers = true)]
+    pub seam_allowance_mm: Option<f64>,
     /// Comma-separated formats: svg, png, exr, dxf, pdf, glb (png, exr and glb need FLAT=3D).
     #[arg(long, default_value = "svg,dxf,pdf")]
     pub formats: String,
@@ -307,10 +311,18 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let opts = PatternOptions {
-        seam_allowance_mm: args.seam_allowance_mm,
-        ..Default::default()
+    let mut opts: PatternOptions = match &args.pattern_options {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read {}", path.display()))?;
+            serde_json::from_str(&text)
+                .with_context(|| format!("{}: not valid pattern options", path.display()))?
+        }
+        None => PatternOptions::default(),
     };
+    if let Some(w) = args.seam_allowance_mm {
+        opts.seam_allowance_mm = w;
+    }
     let pieces = flatcut_pattern::build_pieces(&inputs, ledger.as_ref(), &opts)?;
     let layout = flatcut_pattern::layout(
         &pieces,
@@ -413,7 +425,7 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
 
     let report = Report {
         out: out.display().to_string(),
-        seam_allowance_mm: args.seam_allowance_mm,
+        seam_allowance_mm: opts.seam_allowance_mm,
         sheet_width_mm: layout.width_mm,
         sheet_height_mm: layout.height_mm,
         pieces: pieces

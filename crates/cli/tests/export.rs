@@ -210,6 +210,13 @@ fn bad_input_is_refused_and_nothing_is_left() {
     assert!(run(&["--seam-allowance-mm", "-3"]).contains("seam_allowance_mm = -3"));
     assert!(run(&["--seam-allowance-mm", "25"]).contains("more than half the piece"));
     assert!(run(&["--formats", "png"]).contains("needs the 3D piece"));
+    let po = dir.path().join("po.json");
+    std::fs::write(&po, r#"{"corner": {"miter": {"limit": 0.5}}}"#).unwrap();
+    let e = run(&["--pattern-options", po.to_str().unwrap()]);
+    assert!(e.contains("corner.miter.limit = 0.5"), "{e}");
+    std::fs::write(&po, r#"{"seam_allowance": 3}"#).unwrap();
+    let e = run(&["--pattern-options", po.to_str().unwrap()]);
+    assert!(e.contains("unknown field `seam_allowance`"), "{e}");
     // A folded flattening: a corner pulled across the opposite edge.
     let folded = flat_obj(0.0, 60.0, 40.0, 3, 3).replace("v 60 40 0", "v -20 20 0");
     std::fs::write(&piece, folded).unwrap();
