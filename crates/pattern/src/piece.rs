@@ -17,6 +17,8 @@ use crate::seam_allowance::{CornerRule, CornerSpec, seam_allowance};
 /// Largest material shrink or stretch accepted (as a fraction): beyond ±50 % the "piece" is
 /// another piece, and a typo (−5 for −5 %) is caught.
 pub const MAX_SHRINK: f64 = 0.5;
+/// Most copies of one piece laid out: more is a typo, and every copy is drawn on the sheet.
+pub const MAX_QUANTITY: u32 = 1000;
 /// A notch is cut at most this fraction of the local allowance deep, so it never reaches the
 /// sew line.
 pub const NOTCH_MAX_FRACTION: f64 = 0.6;
@@ -427,9 +429,10 @@ fn prepare(input: &PieceInput) -> Result<Prepared, PatternError> {
             });
         }
     }
-    if meta.quantity == 0 || (meta.mirror && meta.quantity % 2 != 0) {
+    if meta.quantity == 0 || meta.quantity > MAX_QUANTITY || (meta.mirror && meta.quantity % 2 != 0)
+    {
         return Err(bad(format!(
-            "quantity {} with mirror = {}: use at least 1, and an even number for mirrored pairs",
+            "quantity {} with mirror = {}: use 1 to {MAX_QUANTITY}, and an even number for mirrored pairs",
             meta.quantity, meta.mirror
         )));
     }

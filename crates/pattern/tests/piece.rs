@@ -345,6 +345,15 @@ fn refusals_name_the_problem() {
     );
 
     let mut q = p.clone();
+    q.meta.quantity = 3;
+    q.meta.mirror = true;
+    let e = build_pieces(&[q], None, &PatternOptions::default()).unwrap_err();
+    assert!(
+        e.to_string().contains("even number for mirrored pairs"),
+        "{e}"
+    );
+
+    let mut q = p.clone();
     q.meta.shrink_across_grain = -5.0;
     assert!(matches!(
         build_pieces(&[q], None, &PatternOptions::default()),
