@@ -14,6 +14,7 @@ macro_rules! outln {
 
 mod clean;
 mod demo;
+mod export;
 mod flatten;
 mod info;
 mod process;
@@ -42,6 +43,8 @@ enum Command {
     Clean(clean::CleanArgs),
     /// Run the main job on the embedded default: a generated dress form, written and analysed.
     Demo(demo::DemoArgs),
+    /// Write flattened pieces as cut patterns: SVG, DXF (AAMA), PNG/EXR maps, tiled PDF, GLB.
+    Export(export::ExportArgs),
     /// Flatten open pieces to a true-size 2D pattern (OBJ) and measure the distortion.
     Flatten(flatten::FlattenArgs),
     /// Make pieces flattenable (θ = 2π at every interior vertex) with the least-norm method.
@@ -65,6 +68,7 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Clean(args) => clean::run(args),
         Command::Demo(args) => demo::run(args),
+        Command::Export(args) => export::run(args),
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),
         Command::Trim(args) => trim::run(args),

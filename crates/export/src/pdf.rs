@@ -13,6 +13,8 @@ use crate::text::ascii7;
 
 /// Points per mm.
 const PT_PER_MM: f64 = 72.0 / 25.4;
+/// Mean advance of a Helvetica character, as a fraction of the font size.
+const HELVETICA_ADVANCE: f64 = 0.55;
 /// Radius of the registration circles, mm.
 const MARK_MM: f64 = 4.0;
 
@@ -152,7 +154,12 @@ fn sheet_drawing(pieces: &[PatternPiece], layout: &Layout) -> String {
         }
         let h = piece.label.height_mm;
         for (k, line) in piece.label.lines.iter().enumerate() {
-            let p = pl.map([piece.label.at[0], piece.label.at[1] - 1.4 * h * k as f64]);
+            let mut p = pl.map([piece.label.at[0], piece.label.at[1] - 1.4 * h * k as f64]);
+            if pl.mirrored {
+                // The start lands on the right on a mirrored copy: run the text leftwards
+                // (Helvetica's mean advance is about half the text height).
+                p[0] -= HELVETICA_ADVANCE * h * line.chars().count() as f64;
+            }
             let _ = writeln!(
                 o,
                 "BT /F1 {h:.2} Tf 0 g {:.3} {:.3} Td ({}) Tj ET",

@@ -110,6 +110,7 @@ fn piece_layers(
     piece: &PatternPiece,
     prefix: &str,
     map: &dyn Fn([f64; 2]) -> [f64; 2],
+    mirrored: bool,
     opts: &SvgOptions,
 ) {
     let c = &opts.colours;
@@ -275,9 +276,15 @@ fn piece_layers(
     let h = piece.label.height_mm;
     let _ = writeln!(
         o,
-        r#"<g id="{prefix}-label" data-layer="label" fill="{}" font-family="sans-serif" font-size="{}">"#,
+        r#"<g id="{prefix}-label" data-layer="label" fill="{}" font-family="sans-serif" font-size="{}"{}>"#,
         xml_escape(&c.label),
-        f(h)
+        f(h),
+        // A mirrored copy's label start lands on the right: the text must run leftwards.
+        if mirrored {
+            r#" text-anchor="end""#
+        } else {
+            ""
+        }
     );
     for (k, line) in piece.label.lines.iter().enumerate() {
         let p = map([piece.label.at[0], piece.label.at[1] - 1.4 * h * k as f64]);
@@ -301,7 +308,7 @@ pub fn piece_svg(piece: &PatternPiece, opts: &SvgOptions) -> Vec<u8> {
     let map = move |p: [f64; 2]| [p[0] - b[0][0] + m, b[1][1] - p[1] + m];
     let mut o = String::new();
     header(&mut o, w, h);
-    piece_layers(&mut o, piece, &ident(&piece.name), &map, opts);
+    piece_layers(&mut o, piece, &ident(&piece.name), &map, false, opts);
     o.push_str("</svg>\n");
     o.into_bytes()
 }
@@ -329,7 +336,7 @@ pub fn sheet_svg(pieces: &[PatternPiece], layout: &Layout, opts: &SvgOptions) ->
             [q[0], h - q[1]]
         };
         let prefix = format!("{}-{}", ident(&piece.name), pl.copy);
-        piece_layers(&mut o, piece, &prefix, &map, opts);
+        piece_layers(&mut o, piece, &prefix, &map, pl.mirrored, opts);
     }
     o.push_str("</svg>\n");
     o.into_bytes()

@@ -17,9 +17,15 @@ use crate::seam_allowance::{CornerRule, CornerSpec, seam_allowance};
 /// Largest material shrink or stretch accepted (as a fraction): beyond ±50 % the "piece" is
 /// another piece, and a typo (−5 for −5 %) is caught.
 pub const MAX_SHRINK: f64 = 0.5;
+/// Most copies of one piece laid out: more is a typo, and every copy is drawn on the sheet.
+pub const MAX_QUANTITY: u32 = 1000;
 /// A notch is cut at most this fraction of the local allowance deep, so it never reaches the
 /// sew line.
 pub const NOTCH_MAX_FRACTION: f64 = 0.6;
+
+/// Width of a label character as a fraction of the text height (sans-serif average), used
+/// to keep the grain line clear of the label.
+const LABEL_CHAR_WIDTH: f64 = 0.6;
 
 /// What the cutting room needs to know about one piece besides its shape.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -89,6 +95,12 @@ pub struct PatternOptions {
     pub corner: CornerRule,
     /// Rule where a dart leg meets the outline (default mirrored about the leg).
     pub dart_corner: CornerRule,
+    /// Allowance of edges on no seam of the ledger (hems, facings), mm (default `None`: the
+    /// seam allowance).
+    pub free_edge_allowance_mm: Option<f64>,
+    /// Rule where a seam meets a free edge (default `None`: the `corner` rule); `mirrored`
+    /// folds about the free edge, as a hem turned up needs.
+    pub hem_corner: Option<CornerRule>,
     /// A convex vertex turning by at least this much is a corner (default 0.35 rad ≈ 20°);
     /// gentler vertices are joined round, the exact parallel curve of a smooth outline.
     pub corner_angle_rad: f64,
@@ -108,6 +120,8 @@ impl Default for PatternOptions {
             seam_overrides: BTreeMap::new(),
             corner: CornerRule::default(),
             dart_corner: CornerRule::Mirrored,
+            free_edge_allowance_mm: None,
+            hem_corner: None,
             corner_angle_rad: 0.35,
             notch_spacing_mm: 100.0,
             notch_depth_mm: 6.0,
@@ -275,10 +289,18 @@ fn check_width(what: String, value: f64) -> Result<(), PatternError> {
 
 fn check_options(opts: &PatternOptions) -> Result<(), PatternError> {
     check_width("seam_allowance_mm".into(), opts.seam_allowance_mm)?;
+    if let Some(w) = opts.free_edge_allowance_mm {
+        check_width("free_edge_allowance_mm".into(), w)?;
+    }
     for (id, w) in &opts.seam_overrides {
         check_width(format!("seam_overrides[{id:?}]"), *w)?;
     }
-    for (name, rule) in [("corner", opts.corner), ("dart_corner", opts.dart_corner)] {
+    let hem = opts.hem_corner.unwrap_or_default();
+    for (name, rule) in [
+        ("corner", opts.corner),
+        ("dart_corner", opts.dart_corner),
+        ("hem_corner", hem),
+    ] {
         if let CornerRule::Miter { limit } = rule {
             if !(limit.is_finite() && limit >= 1.0) {
                 return Err(PatternError::BadOption {
@@ -407,9 +429,10 @@ fn prepare(input: &PieceInput) -> Result<Prepared, PatternError> {
             });
         }
     }
-    if meta.quantity == 0 || (meta.mirror && meta.quantity % 2 != 0) {
+    if meta.quantity == 0 || meta.quantity > MAX_QUANTITY || (meta.mirror && meta.quantity % 2 != 0)
+    {
         return Err(bad(format!(
-            "quantity {} with mirror = {}: use at least 1, and an even number for mirrored pairs",
+            "quantity {} with mirror = {}: use 1 to {MAX_QUANTITY}, and an even number for mirrored pairs",
             meta.quantity, meta.mirror
         )));
     }
@@ -453,6 +476,12 @@ fn prepare(input: &PieceInput) -> Result<Prepared, PatternError> {
         return Err(bad(
             "it has no boundary (a closed surface); cut it open before making a pattern".into(),
         ));
+    }
+    if topo.component_count() > 1 {
+        return Err(bad(format!(
+            "it has {} separate parts; give each part as its own piece (one file each)",
+            topo.component_count()
+        )));
     }
     if !topo.open_boundary_chains().is_empty() {
         return Err(bad(
@@ -619,7 +648,12 @@ fn finish(
     opts: &PatternOptions,
 ) -> Result<PatternPiece, PatternError> {
     let n = prep.sew.len();
-    let mut widths = vec![opts.seam_allowance_mm; n];
+    let mut widths = vec![
+        opts.free_edge_allowance_mm
+            .unwrap_or(opts.seam_allowance_mm);
+        n
+    ];
+    let mut on_seam = vec![false; n];
     let default_corner = CornerSpec {
         rule: opts.corner,
         fold_next: true,
@@ -641,6 +675,7 @@ fn finish(
                 side.idx[k + 1]
             };
             widths[e] = w;
+            on_seam[e] = true;
         }
         if seam.kind == SeamKind::Dart {
             // The mouth vertex is the chain's last; its leg edge is the chain's last edge.
@@ -651,6 +686,18 @@ fn finish(
                 rule: opts.dart_corner,
                 fold_next: !side.forward,
             };
+        }
+    }
+    if let Some(rule) = opts.hem_corner {
+        // Where a seam meets a free edge (a hem), fold about the free edge.
+        for i in 0..n {
+            let (inc, out) = (on_seam[(i + n - 1) % n], on_seam[i]);
+            if inc != out && corners[i] == default_corner {
+                corners[i] = CornerSpec {
+                    rule,
+                    fold_next: !out,
+                };
+            }
         }
     }
     let b = bbox(&prep.sew);
@@ -734,7 +781,6 @@ fn finish(
 
     // Label and grain line around an inside point.
     let inside = inside_point(&prep.uv, &input.mesh.faces, &prep.sew);
-    let grain_line = grain_line(&prep.sew, inside);
     let meta = &input.meta;
     let mut lines = vec![input.name.clone()];
     if !meta.size.is_empty() {
@@ -748,11 +794,23 @@ fn finish(
     if !meta.fabric.is_empty() {
         lines.push(meta.fabric.clone());
     }
+    // The label block is centred on the inside point; the grain line runs one text height to
+    // its left when that is still inside the piece, else through the label.
+    let h = opts.label_height_mm;
+    let chars = lines.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    let text_w = LABEL_CHAR_WIDTH * h * chars as f64;
     let label = Label {
-        at: [inside[0] + opts.label_height_mm, inside[1]],
-        height_mm: opts.label_height_mm,
+        at: [inside[0] - 0.5 * text_w, inside[1]],
+        height_mm: h,
         lines,
     };
+    let beside = [inside[0] - 0.5 * text_w - h, inside[1]];
+    let grain_at = if point_in_polygon(beside, &prep.sew) {
+        beside
+    } else {
+        inside
+    };
+    let grain_line = grain_line(&prep.sew, grain_at);
     let mut internal_lines = Vec::new();
     for (k, l) in input.internal_lines.iter().enumerate() {
         let mut pts = Vec::with_capacity(l.len());

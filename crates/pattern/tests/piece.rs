@@ -191,6 +191,53 @@ fn rectangle_cut_in_two_with_a_dart_and_an_override() {
 }
 
 #[test]
+fn hems_take_their_own_width_and_mirrored_corners() {
+    // A skirt panel, wider at the hem: side seams slant outward to the hem at y = 0.
+    let mesh = TriMesh {
+        positions: vec![
+            [0.0, 0.0, 0.0],
+            [200.0, 0.0, 0.0],
+            [170.0, 150.0, 0.0],
+            [30.0, 150.0, 0.0],
+        ],
+        faces: vec![[0, 1, 2], [0, 2, 3]],
+        ..Default::default()
+    };
+    let p = flat_piece("skirt", mesh.clone());
+    let mut ledger = SeamLedger::new(vec!["skirt".into(), "other".into()]);
+    let other = flat_piece("other", grid(300.0, 100.0, 150.0, 2, 2));
+    ledger.seams.push(seam(
+        "side/0",
+        SeamKind::Seam,
+        ("skirt", vec![1, 2]),
+        ("other", vec![0, 2]),
+    ));
+    let opts = PatternOptions {
+        free_edge_allowance_mm: Some(30.0),
+        hem_corner: Some(flatcut_pattern::CornerRule::Mirrored),
+        ..Default::default()
+    };
+    let out = build_pieces(&[p, other], Some(&ledger), &opts).unwrap();
+    let cut = &out[0].cut_line;
+    // The hem (free) gets 30 mm: the cut line reaches y = −30.
+    let lo = cut.iter().map(|q| q[1]).fold(f64::MAX, f64::min);
+    assert!((lo + 30.0).abs() < 1e-5, "{lo}");
+    // At (200, 0) the side seam (10 mm) meets the hem: the hem allowance's right end is the
+    // mirror about y = 0 of the side seam's cut line, so it lies on that mirrored line.
+    let d = flatcut_pattern::geom::unit([170.0 - 200.0, 150.0]);
+    let n = [d[1], -d[0]];
+    let on_mirror = |q: [f64; 2]| {
+        let r = [q[0] - 200.0, -q[1]];
+        (r[0] * n[0] + r[1] * n[1] - 10.0).abs() < 1e-5
+    };
+    assert!(
+        cut.iter()
+            .any(|q| q[1] < -1.0 && q[0] > 200.0 && on_mirror(*q)),
+        "{cut:?}"
+    );
+}
+
+#[test]
 fn grain_and_shrink() {
     // A flat piece whose 3D grain runs along x: the pattern turns it to +y.
     let mut p = flat_piece("panel", grid(0.0, 200.0, 50.0, 5, 3));
@@ -298,11 +345,30 @@ fn refusals_name_the_problem() {
     );
 
     let mut q = p.clone();
+    q.meta.quantity = 3;
+    q.meta.mirror = true;
+    let e = build_pieces(&[q], None, &PatternOptions::default()).unwrap_err();
+    assert!(
+        e.to_string().contains("even number for mirrored pairs"),
+        "{e}"
+    );
+
+    let mut q = p.clone();
     q.meta.shrink_across_grain = -5.0;
     assert!(matches!(
         build_pieces(&[q], None, &PatternOptions::default()),
         Err(PatternError::BadOption { .. })
     ));
+
+    // Two parts in one piece would lose one of them: refused.
+    let mut two = grid(0.0, 30.0, 60.0, 3, 3);
+    let other = grid(100.0, 30.0, 60.0, 3, 3);
+    let off = two.positions.len() as u32;
+    two.positions.extend(other.positions);
+    two.faces
+        .extend(other.faces.iter().map(|f| f.map(|v| v + off)));
+    let e = build_pieces(&[flat_piece("two", two)], None, &PatternOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("2 separate parts"), "{e}");
 
     let mut ledger = SeamLedger::new(vec!["small".into(), "ghost".into()]);
     ledger.seams.push(seam(
@@ -332,4 +398,42 @@ fn refusals_name_the_problem() {
             .contains("vertex 4 is not on the piece's outer boundary"),
         "{e}"
     );
+}
+
+#[test]
+fn grain_from_3d_on_a_curved_piece() {
+    // The front cylinder half unrolled, then turned by 30° in the plane: with the grain along
+    // the cylinder's axis (z), the pattern turns it back so the seams (3D lines along z) are
+    // vertical again.
+    let (mut pieces, _) = cylinder_halves();
+    let mut front = pieces.remove(0);
+    let (s, c) = 30f64.to_radians().sin_cos();
+    for q in &mut front.uv {
+        *q = [c * q[0] - s * q[1], s * q[0] + c * q[1]];
+    }
+    front.meta.grain_3d = Some([0.0, 0.0, 1.0]);
+    let out = build_pieces(&[front], None, &PatternOptions::default()).unwrap();
+    let p = &out[0];
+    assert!(
+        (p.rotation_rad + 30f64.to_radians()).abs() < 1e-9,
+        "{}",
+        p.rotation_rad
+    );
+    let (nu, nz) = (13usize, 21usize);
+    for col in [0, nu - 1] {
+        let a = p.uv[col];
+        let b = p.uv[(nz - 1) * nu + col];
+        assert!(
+            (a[0] - b[0]).abs() < 1e-9 && b[1] - a[1] > 299.0,
+            "{a:?} {b:?}"
+        );
+    }
+    // A grain normal to the whole piece has no direction in the pattern.
+    let flat = flat_piece("flat", grid(0.0, 10.0, 10.0, 2, 2));
+    let mut f = flat.clone();
+    f.meta.grain_3d = Some([0.0, 0.0, 1.0]);
+    assert!(matches!(
+        build_pieces(&[f], None, &PatternOptions::default()),
+        Err(PatternError::GrainNormalToPiece { .. })
+    ));
 }
