@@ -365,3 +365,66 @@ fn dress_form_wetsuit_gives_eight_disks() {
     let w = t.lines.iter().find(|l| l.name == "waist").unwrap().length;
     assert!(w <= 700.0 + 1e-6 && w > 690.0, "{w}");
 }
+
+#[test]
+fn lines_crossing_inside_faces_on_a_flat_sheet() {
+    // Flat: geodesics are straight, so lengths and the crossing point have closed forms.
+    let mesh = shapes::grid_patch(12, 12, 100.0, |_, _| 0.0);
+    let (a0, a1) = ([-50.0, -31.3, 0.0], [50.0, 27.1, 0.0]);
+    let (b0, b1) = ([-17.7, -50.0, 0.0], [23.9, 50.0, 0.0]);
+    let cuts = Cuts {
+        cuts: vec![
+            line("a", vec![a0, a1], false),
+            line("b", vec![b0, b1], false),
+        ],
+        pieces: vec![
+            seed("north-west", [-40.0, 0.0, 0.0]),
+            seed("north-east", [40.0, 40.0, 0.0]),
+            seed("south-west", [-40.0, -45.0, 0.0]),
+            seed("south-east", [40.0, 0.0, 0.0]),
+        ],
+        ..Default::default()
+    };
+    let t = trim(&mesh, &cuts).unwrap();
+    check_conservation(&mesh, &t);
+    assert_eq!(t.pieces.len(), 4);
+    assert!(t.report.pieces.iter().all(|p| p.disk));
+    assert!((t.lines[0].length - vec3::dist(a0, a1)).abs() < 1e-9);
+    assert!((t.lines[1].length - vec3::dist(b0, b1)).abs() < 1e-9);
+    // The crossing: one vertex on both chains, at the intersection of the two segments.
+    let shared: Vec<u32> = t.embedded.line_vertices[0]
+        .iter()
+        .copied()
+        .filter(|v| t.embedded.line_vertices[1].contains(v))
+        .collect();
+    assert_eq!(shared.len(), 1);
+    let x = t.embedded.mesh.positions[shared[0] as usize];
+    let (d1, d2) = (vec3::sub(a1, a0), vec3::sub(b1, b0));
+    let s = ((b0[0] - a0[0]) * d2[1] - (b0[1] - a0[1]) * d2[0]) / (d1[0] * d2[1] - d1[1] * d2[0]);
+    let exact = vec3::add(a0, vec3::scale(d1, s));
+    assert!(vec3::dist(x, exact) < 1e-9, "{x:?} vs {exact:?}");
+    // Each line is split at the crossing into two seams.
+    assert_eq!(t.ledger.seams.len(), 4);
+
+    // A bow-tie loop crossing itself inside a face.
+    let c = Cuts {
+        cuts: vec![line(
+            "bow-tie",
+            vec![
+                [-31.0, -27.0, 0.0],
+                [33.0, 29.0, 0.0],
+                [35.0, -24.0, 0.0],
+                [-28.0, 31.0, 0.0],
+            ],
+            true,
+        )],
+        ..Default::default()
+    };
+    match trim(&mesh, &c).unwrap_err() {
+        TrimError::SelfCrossing { line, point_mm } => {
+            assert_eq!(line, "bow-tie");
+            assert!(vec3::norm(point_mm) < 20.0, "{point_mm:?}");
+        }
+        e => panic!("{e}"),
+    }
+}
