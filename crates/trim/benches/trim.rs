@@ -12,15 +12,14 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use flatcut_mesh::{TriMesh, bvh::Bvh, shapes};
 use flatcut_trim::{CutSpec, Cuts, trim};
 
-fn loop_at(bvh: &Bvh, name: &str, y: f64, z: f64) -> CutSpec {
+/// A horizontal loop of eight ray hits round the point `c` (inside the body).
+fn loop_at(bvh: &Bvh, name: &str, c: [f64; 3]) -> CutSpec {
     let points = (0..8)
         .map(|k| {
             let a = k as f64 * std::f64::consts::FRAC_PI_4 + 0.1;
             let d = [a.cos(), 0.0, a.sin()];
-            let h = bvh
-                .ray_intersect([0.0, y, z], d, 1e5)
-                .expect("ray hits the torso");
-            [h.t * d[0], y, z + h.t * d[2]]
+            let h = bvh.ray_intersect(c, d, 1e5).expect("ray hits the body");
+            [c[0] + h.t * d[0], c[1], c[2] + h.t * d[2]]
         })
         .collect();
     CutSpec {
@@ -43,13 +42,24 @@ fn case() -> (String, TriMesh, Cuts) {
         );
         let mut cuts: Cuts = toml::from_str(&std::fs::read_to_string(fixture).unwrap()).unwrap();
         cuts.scale(100.0); // dm → mm
-        // The scan's noise and holes move the surface a little from the template's.
-        cuts.options.landmark_tolerance_mm = 15.0;
-        cuts.options.end_snap_mm = 15.0;
+        // The scan's noise and holes (one at the crotch, 23 mm from the template's surface
+        // point) move the surface from the template's.
+        cuts.options.landmark_tolerance_mm = 30.0;
+        cuts.options.end_snap_mm = 30.0;
         cuts.options.keep_unnamed = true;
+        // The underarm lines leave the arm-hole loop past a hole of the scan 4.8 mm away and
+        // both wrap its corner: they overlap there, which `trim` refuses (tested). Loops
+        // round the chest, belly, hip and thighs take their place: 15 + 5 = 20 lines.
+        cuts.cuts.retain(|c| !c.name.starts_with("underarm"));
         let bvh = Bvh::build(&mesh);
-        cuts.cuts.push(loop_at(&bvh, "chest", 360.0, 20.0));
-        cuts.cuts.push(loop_at(&bvh, "hip", 80.0, 10.0));
+        cuts.cuts.push(loop_at(&bvh, "chest", [0.0, 360.0, 20.0]));
+        cuts.cuts.push(loop_at(&bvh, "belly", [0.0, 300.0, 20.0]));
+        cuts.cuts.push(loop_at(&bvh, "hip", [0.0, 80.0, 10.0]));
+        cuts.cuts
+            .push(loop_at(&bvh, "thigh-left", [134.0, -160.0, 22.0]));
+        cuts.cuts
+            .push(loop_at(&bvh, "thigh-right", [-134.0, -160.0, 22.0]));
+        assert_eq!(cuts.cuts.len(), 20);
         cuts.pieces.clear();
         ("mh_body_scanlike (148k tris), 20 lines".into(), mesh, cuts)
     } else {
@@ -68,7 +78,7 @@ fn case() -> (String, TriMesh, Cuts) {
         .enumerate()
         {
             cuts.cuts
-                .push(loop_at(&bvh, &format!("ring-{k}"), f * h, 0.0));
+                .push(loop_at(&bvh, &format!("ring-{k}"), [0.0, f * h, 0.0]));
         }
         cuts.pieces.clear();
         cuts.options.keep_unnamed = true;

@@ -428,3 +428,28 @@ fn lines_crossing_inside_faces_on_a_flat_sheet() {
         e => panic!("{e}"),
     }
 }
+
+#[test]
+fn lines_may_share_a_stretch_of_the_mesh_boundary() {
+    // Along the boundary a line cuts nothing, so two lines there do not conflict (scans: lines
+    // hugging one hole); inside the surface the same overlap is an error (see above).
+    let mesh = shapes::grid_patch(8, 8, 70.0, |_, _| 0.0);
+    let vline = |name: &str, v: &[u64]| CutSpec {
+        name: name.into(),
+        vertices: v.to_vec(),
+        ..Default::default()
+    };
+    let cuts = Cuts {
+        cuts: vec![vline("a", &[0, 1, 2, 3, 4]), vline("b", &[2, 3, 4, 5])],
+        options: flatcut_trim::TrimOptions {
+            keep_unnamed: true,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let t = trim(&mesh, &cuts).unwrap();
+    check_conservation(&mesh, &t);
+    assert_eq!(t.pieces.len(), 1);
+    assert!(t.ledger.seams.is_empty());
+    assert_eq!(t.report.unsewn_edges, 4 + 3);
+}
