@@ -322,8 +322,15 @@ pub(crate) fn embed_with(ctx: &LineContext, lines: &[CutLine]) -> Result<Embedde
     let mut edge_use: HashMap<(u32, u32), Vec<EdgeUse>> = HashMap::new();
     for &(li, s, (a, b), t0, t1) in &edge_segs {
         let (lo, hi) = (t0.min(t1), t0.max(t1));
+        // Along the mesh boundary a line cuts nothing, so lines may share such a stretch
+        // (on a scan, lines often hug the same hole).
+        let on_boundary = topo
+            .vertex_faces(flatcut_mesh::VertexId(a))
+            .filter(|f| mesh.faces[f.idx()].contains(&b))
+            .count()
+            == 1;
         let uses = edge_use.entry((a, b)).or_default();
-        for &(lj, lo2, hi2) in uses.iter() {
+        for &(lj, lo2, hi2) in uses.iter().filter(|_| !on_boundary) {
             if hi.min(hi2) - lo.max(lo2) > MERGE_T {
                 let at = lines[li].points[s].position(mesh);
                 return Err(if lj == li {
