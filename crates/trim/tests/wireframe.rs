@@ -516,3 +516,38 @@ fn steep_saddle_is_reparametrised_to_good_angles() {
     let (a0, a1) = (total_area(&plain.mesh), total_area(&patch.mesh));
     assert!((a0 - a1).abs() < 0.02 * a0, "areas {a0} vs {a1}");
 }
+
+/// The seat in the circle domain (forced): the first lift is poor, the conformal pass
+/// repairs it; and every vertex's reported origin reproduces its position.
+#[test]
+fn circle_domain_seat_and_origins() {
+    let curves = seat(25);
+    let mut wire = frame(curves.clone(), 20.0);
+    wire.options.domain = DomainChoice::Circle;
+    let patch = wireframe_surface(&wire, &wire.options).unwrap();
+    eprintln!("circle seat: {:?}", patch.report);
+    assert_eq!(patch.report.domain, DomainKind::Circle);
+    let m = &patch.mesh;
+    let d = diag(&curves);
+    assert_disk_on_curves(m, &curves, 1e-9 * d);
+    assert!(min_angle_deg(m) >= 20.0, "{}", min_angle_deg(m));
+    for (v, o) in patch.origins.iter().enumerate() {
+        let want = match *o {
+            VertexOrigin::CurvePoint { curve, point } => curves[curve].points[point],
+            VertexOrigin::OnCurve { curve, segment, t } => {
+                assert!(t > 0.0 && t < 1.0, "{o:?}");
+                let (a, b) = (
+                    curves[curve].points[segment],
+                    curves[curve].points[segment + 1],
+                );
+                [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]))
+            }
+            _ => continue,
+        };
+        let got = m.positions[v];
+        assert!(
+            flatcut_mesh::vec3::dist(got, want) <= 1e-9 * d,
+            "{o:?}: {got:?} vs {want:?}"
+        );
+    }
+}
