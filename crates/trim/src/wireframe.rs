@@ -445,6 +445,24 @@ pub fn wireframe_surface(
             loop_length_mm,
         });
     }
+    // Samples the boundary and guides will need, checked before anything is allocated (a
+    // tiny target edge or astronomically large coordinates must not hang or exhaust memory).
+    let guide_length: f64 = wire
+        .guide
+        .iter()
+        .flat_map(|g| g.points.windows(2).map(|w| dist(w[0], w[1])))
+        .sum();
+    let samples = (loop_length_mm + guide_length) / h + (segs.len() + wire.guide.len()) as f64;
+    if !(samples.is_finite() && samples <= opts.max_vertices as f64) {
+        return Err(WireframeError::TooManyVertices {
+            needed: if samples.is_finite() {
+                samples as usize
+            } else {
+                usize::MAX
+            },
+            max: opts.max_vertices,
+        });
+    }
     let diag = diagonal(segs.iter().map(|s| s.p0));
     check_loop_in_3d(&segs, &wire.curve, diag, opts.join_tolerance_mm)?;
 

@@ -427,6 +427,29 @@ fn bad_inputs_name_the_curve_or_point() {
             "{t}: {e}"
         );
     }
+    // A target edge far too small for the loop: refused before any work.
+    let e = err_of(&frame(seat(5), 1e-6));
+    assert!(matches!(e, WireframeError::TooManyVertices { .. }), "{e}");
+    // Guides with a loop that has no plane domain.
+    let r = 200.0;
+    let span = 300f64.to_radians();
+    let cyl = move |th: f64, z: f64| [r * th.cos(), r * th.sin(), z];
+    let mut wire = frame(
+        vec![
+            curve("bottom", sample(40, |s| cyl(s * span, 0.0))),
+            curve("end", sample(6, |s| cyl(span, s * 300.0))),
+            curve("top", sample(40, |s| cyl(span * (1.0 - s), 300.0))),
+            curve("start", sample(6, |s| cyl(0.0, 300.0 * (1.0 - s)))),
+        ],
+        30.0,
+    );
+    wire.guide
+        .push(curve("mid", vec![cyl(1.0, 150.0), cyl(2.0, 150.0)]));
+    let e = err_of(&wire);
+    assert!(
+        matches!(&e, WireframeError::GuidesNeedPlane { guide } if guide == "mid"),
+        "{e}"
+    );
     // A figure-eight in 3D: the loop crosses itself.
     let eight = vec![curve(
         "eight",
