@@ -142,7 +142,8 @@ pub struct WireFrame {
     /// the boundary within the join tolerance).
     #[serde(default)]
     pub guide: Vec<WireCurve>,
-    /// Tuning; every field optional.
+    /// Tuning from the file's `[options]` table; every field optional. [`wireframe_surface`]
+    /// takes its options as a separate argument (callers pass `&wire.options` or their own).
     #[serde(default)]
     pub options: WireframeOptions,
 }
@@ -211,7 +212,8 @@ pub struct WireframeReport {
     pub max_join_gap_mm: f64,
     /// Smallest triangle angle in the domain (degrees).
     pub min_angle_domain_deg: f64,
-    /// Smallest triangle angle of the 3D patch after the lift, before relaxation (degrees).
+    /// Smallest triangle angle of the 3D patch after the first lift, before any
+    /// re-parametrisation pass (degrees).
     pub min_angle_lifted_deg: f64,
     /// Smallest triangle angle of the final 3D patch (degrees).
     pub min_angle_3d_deg: f64,
