@@ -156,6 +156,11 @@ fn seat_saddle_from_four_curves() {
         }
     }
     assert!(max_edge < 2.0 * 20.0, "longest edge {max_edge}");
+    // Orientation follows the loop by the right-hand rule: front (+x), right (+y), back, left
+    // run counter-clockwise seen from +z, so every face normal points up.
+    for n in flatcut_mesh::geometry::face_normals(&m.positions, &m.faces) {
+        assert!(n[2] > 0.5, "normal {n:?}");
+    }
 }
 
 /// A square frame in a tilted plane: the patch is planar and its area is the square's.
