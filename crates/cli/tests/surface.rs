@@ -67,7 +67,8 @@ fn point_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     dist(p, [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]])
 }
 
-fn check_fixture(name: &str) {
+/// `facing`: the direction the patch's (area-weighted mean) normal should point.
+fn check_fixture(name: &str, facing: [f64; 3]) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("patch.obj");
     let report = dir.path().join("report.json");
@@ -143,16 +144,31 @@ fn check_fixture(name: &str) {
     let reported = printed["min_angle_3d_deg"].as_f64().unwrap();
     assert!((reported - min).abs() < 1e-6, "{reported} vs {min}");
     assert!(printed["max_boundary_deviation_mm"].as_f64().unwrap() <= tol);
+    // Area vector Σ ½ (b − a) × (c − a), normalised.
+    let mut sum = [0.0; 3];
+    for f in &mesh.faces {
+        let [a, b, c] = f.map(|v| mesh.positions[v as usize]);
+        let n =
+            flatcut_mesh::vec3::cross(flatcut_mesh::vec3::sub(b, a), flatcut_mesh::vec3::sub(c, a));
+        sum = flatcut_mesh::vec3::add(sum, n);
+    }
+    let cos = flatcut_mesh::vec3::dot(flatcut_mesh::vec3::normalize(sum), facing);
+    assert!(
+        cos > 0.9,
+        "{name}: mean normal {sum:?} does not face {facing:?}"
+    );
 }
 
 #[test]
 fn sofa_seat_fixture() {
-    check_fixture("seat.toml");
+    check_fixture("seat.toml", [0.0, 0.0, 1.0]);
 }
 
 #[test]
 fn sofa_back_fixture_in_cm() {
-    check_fixture("back.toml");
+    // Leaning back 15°: the normal faces the sitter (−y), tilted up.
+    let t = 15f64.to_radians();
+    check_fixture("back.toml", [0.0, -t.cos(), t.sin()]);
 }
 
 #[test]

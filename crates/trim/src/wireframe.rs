@@ -142,7 +142,8 @@ pub struct WireFrame {
     /// the boundary within the join tolerance).
     #[serde(default)]
     pub guide: Vec<WireCurve>,
-    /// Tuning; every field optional.
+    /// Tuning from the file's `[options]` table; every field optional. [`wireframe_surface`]
+    /// takes its options as a separate argument (callers pass `&wire.options` or their own).
     #[serde(default)]
     pub options: WireframeOptions,
 }
@@ -211,7 +212,8 @@ pub struct WireframeReport {
     pub max_join_gap_mm: f64,
     /// Smallest triangle angle in the domain (degrees).
     pub min_angle_domain_deg: f64,
-    /// Smallest triangle angle of the 3D patch after the lift, before relaxation (degrees).
+    /// Smallest triangle angle of the 3D patch after the first lift, before any
+    /// re-parametrisation pass (degrees).
     pub min_angle_lifted_deg: f64,
     /// Smallest triangle angle of the final 3D patch (degrees).
     pub min_angle_3d_deg: f64,
@@ -443,6 +445,24 @@ pub fn wireframe_surface(
         return Err(WireframeError::BadTargetEdge {
             target_edge_mm: h,
             loop_length_mm,
+        });
+    }
+    // Samples the boundary and guides will need, checked before anything is allocated (a
+    // tiny target edge or astronomically large coordinates must not hang or exhaust memory).
+    let guide_length: f64 = wire
+        .guide
+        .iter()
+        .flat_map(|g| g.points.windows(2).map(|w| dist(w[0], w[1])))
+        .sum();
+    let samples = (loop_length_mm + guide_length) / h + (segs.len() + wire.guide.len()) as f64;
+    if !(samples.is_finite() && samples <= opts.max_vertices as f64) {
+        return Err(WireframeError::TooManyVertices {
+            needed: if samples.is_finite() {
+                samples as usize
+            } else {
+                usize::MAX
+            },
+            max: opts.max_vertices,
         });
     }
     let diag = diagonal(segs.iter().map(|s| s.p0));
@@ -1923,4 +1943,87 @@ fn lscm(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Option<Vec<[f64; 2]>> {
         .iter()
         .any(|f| cross2(uv[f[0] as usize], uv[f[1] as usize], uv[f[2] as usize]) <= 0.0);
     (!folded).then_some(uv)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    /// Jacobi: A v = λ v for each eigenpair and orthonormal vectors, on a full symmetric matrix.
+    #[test]
+    fn jacobi_eigenpairs() {
+        let a = [[4.0, 1.0, -2.0], [1.0, 3.0, 0.5], [-2.0, 0.5, 1.0]];
+        let (vals, vecs) = jacobi_eigen(a);
+        for k in 0..3 {
+            let v = [vecs[0][k], vecs[1][k], vecs[2][k]];
+            let av = [0, 1, 2].map(|i| (0..3).map(|j| a[i][j] * v[j]).sum::<f64>());
+            for i in 0..3 {
+                assert!((av[i] - vals[k] * v[i]).abs() < 1e-12);
+            }
+            assert!((norm(v) - 1.0).abs() < 1e-12);
+        }
+        // Trace and determinant.
+        assert!((vals.iter().sum::<f64>() - 8.0).abs() < 1e-12);
+    }
+
+    /// LSCM of a planar, irregular mesh is the mesh itself up to a rigid motion (the pins
+    /// are at their true distance): every edge keeps its length.
+    #[test]
+    fn lscm_reproduces_a_planar_mesh() {
+        // A 5×4 grid, jittered, in a tilted plane.
+        let (nx, ny) = (5, 4);
+        let mut pos = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                let (x, y) = (
+                    10.0 * i as f64 + 1.7 * ((i * 7 + j * 3) % 5) as f64 / 5.0,
+                    10.0 * j as f64 + 1.3 * ((i * 2 + j * 5) % 7) as f64 / 7.0,
+                );
+                pos.push([x, 0.6 * y, 0.8 * y + 5.0]);
+            }
+        }
+        let mut faces = Vec::new();
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let v = (i + nx * j) as u32;
+                let n = nx as u32;
+                faces.push([v, v + 1, v + n + 1]);
+                faces.push([v, v + n + 1, v + n]);
+            }
+        }
+        let uv = lscm(&pos, &faces).unwrap();
+        for f in &faces {
+            for k in 0..3 {
+                let (a, b) = (f[k] as usize, f[(k + 1) % 3] as usize);
+                let l3 = dist(pos[a], pos[b]);
+                let l2 = dist2(uv[a], uv[b]);
+                assert!((l3 - l2).abs() < 1e-9 * l3, "edge {a}-{b}: {l3} vs {l2}");
+            }
+        }
+    }
+
+    #[test]
+    fn segment_distances() {
+        // Skew 3D segments: closest points at their interiors, distance 1.
+        let d = segment_distance(
+            [-1.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, -1.0, 1.0],
+            [0.0, 1.0, 1.0],
+        );
+        assert!((d - 1.0).abs() < 1e-15);
+        // Parallel, offset along the line: end to end.
+        let d = segment_distance([0.0; 3], [1.0, 0.0, 0.0], [3.0, 4.0, 0.0], [5.0, 4.0, 0.0]);
+        assert!((d - (4.0f64 + 16.0).sqrt()).abs() < 1e-15);
+        // 2D crossing and apart.
+        assert_eq!(
+            segment_distance_2d([0.0, 0.0], [2.0, 2.0], [0.0, 2.0], [2.0, 0.0]),
+            0.0
+        );
+        assert!(
+            (segment_distance_2d([0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]) - 1.0).abs()
+                < 1e-15
+        );
+    }
 }

@@ -156,6 +156,11 @@ fn seat_saddle_from_four_curves() {
         }
     }
     assert!(max_edge < 2.0 * 20.0, "longest edge {max_edge}");
+    // Orientation follows the loop by the right-hand rule: front (+x), right (+y), back, left
+    // run counter-clockwise seen from +z, so every face normal points up.
+    for n in flatcut_mesh::geometry::face_normals(&m.positions, &m.faces) {
+        assert!(n[2] > 0.5, "normal {n:?}");
+    }
 }
 
 /// A square frame in a tilted plane: the patch is planar and its area is the square's.
@@ -427,6 +432,29 @@ fn bad_inputs_name_the_curve_or_point() {
             "{t}: {e}"
         );
     }
+    // A target edge far too small for the loop: refused before any work.
+    let e = err_of(&frame(seat(5), 1e-6));
+    assert!(matches!(e, WireframeError::TooManyVertices { .. }), "{e}");
+    // Guides with a loop that has no plane domain.
+    let r = 200.0;
+    let span = 300f64.to_radians();
+    let cyl = move |th: f64, z: f64| [r * th.cos(), r * th.sin(), z];
+    let mut wire = frame(
+        vec![
+            curve("bottom", sample(40, |s| cyl(s * span, 0.0))),
+            curve("end", sample(6, |s| cyl(span, s * 300.0))),
+            curve("top", sample(40, |s| cyl(span * (1.0 - s), 300.0))),
+            curve("start", sample(6, |s| cyl(0.0, 300.0 * (1.0 - s)))),
+        ],
+        30.0,
+    );
+    wire.guide
+        .push(curve("mid", vec![cyl(1.0, 150.0), cyl(2.0, 150.0)]));
+    let e = err_of(&wire);
+    assert!(
+        matches!(&e, WireframeError::GuidesNeedPlane { guide } if guide == "mid"),
+        "{e}"
+    );
     // A figure-eight in 3D: the loop crosses itself.
     let eight = vec![curve(
         "eight",
@@ -515,4 +543,39 @@ fn steep_saddle_is_reparametrised_to_good_angles() {
     // the Laplacian uses, so their areas agree closely but not exactly.
     let (a0, a1) = (total_area(&plain.mesh), total_area(&patch.mesh));
     assert!((a0 - a1).abs() < 0.02 * a0, "areas {a0} vs {a1}");
+}
+
+/// The seat in the circle domain (forced): the first lift is poor, the conformal pass
+/// repairs it; and every vertex's reported origin reproduces its position.
+#[test]
+fn circle_domain_seat_and_origins() {
+    let curves = seat(25);
+    let mut wire = frame(curves.clone(), 20.0);
+    wire.options.domain = DomainChoice::Circle;
+    let patch = wireframe_surface(&wire, &wire.options).unwrap();
+    eprintln!("circle seat: {:?}", patch.report);
+    assert_eq!(patch.report.domain, DomainKind::Circle);
+    let m = &patch.mesh;
+    let d = diag(&curves);
+    assert_disk_on_curves(m, &curves, 1e-9 * d);
+    assert!(min_angle_deg(m) >= 20.0, "{}", min_angle_deg(m));
+    for (v, o) in patch.origins.iter().enumerate() {
+        let want = match *o {
+            VertexOrigin::CurvePoint { curve, point } => curves[curve].points[point],
+            VertexOrigin::OnCurve { curve, segment, t } => {
+                assert!(t > 0.0 && t < 1.0, "{o:?}");
+                let (a, b) = (
+                    curves[curve].points[segment],
+                    curves[curve].points[segment + 1],
+                );
+                [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]))
+            }
+            _ => continue,
+        };
+        let got = m.positions[v];
+        assert!(
+            flatcut_mesh::vec3::dist(got, want) <= 1e-9 * d,
+            "{o:?}: {got:?} vs {want:?}"
+        );
+    }
 }
