@@ -17,6 +17,7 @@ mod demo;
 mod flatten;
 mod info;
 mod process;
+mod remesh;
 mod util;
 
 use std::process::ExitCode;
@@ -43,6 +44,8 @@ enum Command {
     Flatten(flatten::FlattenArgs),
     /// Make pieces flattenable (θ = 2π at every interior vertex) with the least-norm method.
     Process(process::ProcessArgs),
+    /// Remesh a scan to a working edge length (and/or decimate it), fill small holes, report quality.
+    Remesh(remesh::RemeshArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => demo::run(args),
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),
+        Command::Remesh(args) => remesh::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
