@@ -511,3 +511,53 @@ fn mh_body_scanlike_at_8mm_meets_the_issue_numbers() {
     assert_eq!(t.boundary_loops().len(), 6);
     assert!(boundary_deviation(&input, m) <= 1e-9 * input.diagonal());
 }
+
+#[test]
+fn adaptive_sizing_follows_the_chord_rule_on_spheres() {
+    // With κ = 1/R the chord-error rule gives L = √(6εR − 3ε²): two spheres, two lengths.
+    let eps = 0.25;
+    let mut means = Vec::new();
+    for r in [40.0, 160.0] {
+        let input = icosphere(r, 5);
+        let expect = (6.0 * eps * r - 3.0 * eps * eps).sqrt();
+        let out = remesh(
+            &input,
+            &RemeshOptions {
+                target_edge_mm: expect,
+                min_edge_mm: Some(1.0),
+                max_edge_mm: Some(40.0),
+                adaptive_tolerance_mm: eps,
+                ..RemeshOptions::default()
+            },
+        )
+        .unwrap();
+        assert_valid(&out.mesh);
+        let mean = out.report.mean_edge_mm;
+        assert!(
+            (mean / expect - 1.0).abs() < 0.15,
+            "R {r}: mean {mean} vs {expect}"
+        );
+        means.push(mean);
+    }
+    // Four times the radius, twice the edge.
+    assert!((means[1] / means[0] - 2.0).abs() < 0.3, "{means:?}");
+    // Clamped to the range: a max below the rule's length (15.5 mm here) caps it, and the
+    // result is the uniform remesh at that length.
+    let input = icosphere(160.0, 4);
+    let run = |min, max| {
+        remesh(
+            &input,
+            &RemeshOptions {
+                target_edge_mm: 8.0,
+                min_edge_mm: min,
+                max_edge_mm: max,
+                adaptive_tolerance_mm: eps,
+                ..RemeshOptions::default()
+            },
+        )
+        .unwrap()
+    };
+    let capped = run(Some(4.0), Some(8.0));
+    let uniform = run(None, None);
+    assert_eq!(capped.mesh, uniform.mesh);
+}
