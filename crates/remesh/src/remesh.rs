@@ -33,6 +33,11 @@ const MIN_TARGET_REL: f64 = 1e-6;
 /// Feature chains made only of detected creases shorter than this many target edges are
 /// scan noise, not creases: they are dropped.
 const MIN_CREASE_CHAIN_EDGES: f64 = 2.0;
+/// Components with less area than this many equilateral triangles of the target edge (a
+/// 4 × 4 patch, about two target edges across) are copied unchanged: at that size the
+/// boundary corners pin every vertex and remeshing only tangles them (the scan's debris
+/// islands of 5–15 target triangles did exactly that).
+const TINY_COMPONENT_TRIANGLES: f64 = 16.0;
 /// Faces with a corner below this angle (degrees) after the rounds are treated as slivers
 /// and removed by a flip or collapse where allowed; at most `SLIVER_PASSES` sweeps.
 const SLIVER_ANGLE_DEG: f64 = 5.0;
@@ -218,6 +223,10 @@ struct Work<'a> {
 }
 
 /// Remeshes `mesh` to edges of about `opts.target_edge_mm` (see the module docs).
+///
+/// Components whose area is below `TINY_COMPONENT_TRIANGLES` target-sized triangles (scan
+/// debris) cannot carry the target resolution; they are copied unchanged and counted in
+/// the report's `components_kept_unchanged`.
 pub fn remesh(mesh: &TriMesh, opts: &RemeshOptions) -> Result<Remeshed, RemeshError> {
     mesh.validate()?;
     if mesh.faces.is_empty() {
@@ -226,6 +235,62 @@ pub fn remesh(mesh: &TriMesh, opts: &RemeshOptions) -> Result<Remeshed, RemeshEr
     check_options(mesh, opts)?;
     let topo = Topology::build(mesh)?;
     check_manifold(mesh, &topo)?;
+    let t = opts.target_edge_mm;
+    let tiny_area = TINY_COMPONENT_TRIANGLES * 3f64.sqrt() / 4.0 * t * t;
+    let mut comp_area = vec![0.0; topo.component_count()];
+    for (f, face) in mesh.faces.iter().enumerate() {
+        let [a, b, c] = face.map(|i| mesh.positions[i as usize]);
+        comp_area[topo.face_components()[f] as usize] += 0.5 * norm(cross(sub(b, a), sub(c, a)));
+    }
+    let tiny: Vec<bool> = comp_area.iter().map(|&a| a < tiny_area).collect();
+    if !tiny.iter().any(|&x| x) || tiny.iter().all(|&x| x) {
+        return remesh_manifold(mesh, topo, opts);
+    }
+    let (big, small): (Vec<u32>, Vec<u32>) = (0..mesh.faces.len() as u32)
+        .partition(|&f| !tiny[topo.face_components()[f as usize] as usize]);
+    let (sub_mesh, _) = flatcut_mesh::submesh(mesh, &big);
+    let sub_topo = Topology::build(&sub_mesh)?;
+    let mut r = remesh_manifold(&sub_mesh, sub_topo, opts)?;
+    for p in &mut r.provenance {
+        p.face = big[p.face as usize];
+    }
+    // Append the small components verbatim, each vertex mapped to one of its own faces.
+    let mut local = vec![INVALID; mesh.positions.len()];
+    for &f in &small {
+        let face = mesh.faces[f as usize];
+        let mut out_face = [0u32; 3];
+        for (slot, &v) in face.iter().enumerate() {
+            if local[v as usize] == INVALID {
+                local[v as usize] = r.mesh.positions.len() as u32;
+                r.mesh.positions.push(mesh.positions[v as usize]);
+                let mut b = [0.0; 3];
+                b[slot] = 1.0;
+                r.provenance.push(Provenance {
+                    face: f,
+                    barycentric: b,
+                    filled: false,
+                });
+            }
+            out_face[slot] = local[v as usize];
+        }
+        r.mesh.faces.push(out_face);
+    }
+    let filled: Vec<bool> = r.provenance.iter().map(|p| p.filled).collect();
+    let holes = std::mem::take(&mut r.report.holes);
+    let n_filled = r.report.holes_filled;
+    r.report = crate::quality::quality_report(&r.mesh, mesh, Some(t), &filled);
+    r.report.holes = holes;
+    r.report.holes_filled = n_filled;
+    r.report.components_kept_unchanged = tiny.iter().filter(|&&x| x).count();
+    Ok(r)
+}
+
+/// [`remesh`] of a checked manifold mesh.
+fn remesh_manifold(
+    mesh: &TriMesh,
+    topo: Topology,
+    opts: &RemeshOptions,
+) -> Result<Remeshed, RemeshError> {
     let target = opts.target_edge_mm;
     let holes = find_holes(mesh, &topo, opts.fill_holes_perimeter_mm);
     let any_filled = holes.iter().any(|h| h.filled);

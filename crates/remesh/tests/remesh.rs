@@ -461,17 +461,9 @@ fn feature_line_is_kept_as_a_polyline() {
 #[test]
 #[ignore = "release-only: 148k triangles (a few seconds in release, minutes in debug)"]
 fn mh_body_scanlike_at_8mm_meets_the_issue_numbers() {
-    let Some(scan) = real_mesh("mh_body_scanlike.obj") else {
+    let Some(input) = real_mesh("mh_body_scanlike.obj") else {
         return;
     };
-    // The scan carries three 11-face debris islands of self-overlapping junk; removing
-    // them is `flatcut clean`'s job, so the body (the largest component) is remeshed.
-    let topo = Topology::build(&scan).unwrap();
-    let body: Vec<u32> = (0..scan.faces.len() as u32)
-        .filter(|&f| topo.face_components()[f as usize] == 0)
-        .collect();
-    assert!(body.len() > 147_000);
-    let input = flatcut_mesh::submesh(&scan, &body).0;
     let out = remesh(
         &input,
         &RemeshOptions {
@@ -498,7 +490,11 @@ fn mh_body_scanlike_at_8mm_meets_the_issue_numbers() {
     // Vertices outside filled holes lie on the input surface.
     assert!(q.vertex_to_input.max_mm <= 1e-9 * input.diagonal());
     assert!(provenance_error(&input, m, &out.provenance) < 1e-9 * input.diagonal());
-    // 16 holes: the ten below 200 mm are filled, the six openings (272 mm and up) stay.
+    // The three debris islands (11 junk faces each, 5–15 target triangles of area) are
+    // copied unchanged; of the body's 16 holes the ten below 200 mm are filled and the six
+    // openings (272 mm and up) stay open.
+    assert_eq!(q.components_kept_unchanged, 3);
+    assert_eq!(q.degenerate_faces, 0);
     assert_eq!(q.holes.len(), 16);
     assert_eq!(q.holes_filled, 10);
     assert!(
@@ -508,7 +504,7 @@ fn mh_body_scanlike_at_8mm_meets_the_issue_numbers() {
             .all(|h| h.perimeter_mm > 250.0)
     );
     let t = Topology::build(m).unwrap();
-    assert_eq!(t.boundary_loops().len(), 6);
+    assert_eq!(t.boundary_loops().len(), 6 + 3);
     assert!(boundary_deviation(&input, m) <= 1e-9 * input.diagonal());
 }
 
@@ -560,4 +556,37 @@ fn adaptive_sizing_follows_the_chord_rule_on_spheres() {
     let capped = run(Some(4.0), Some(8.0));
     let uniform = run(None, None);
     assert_eq!(capped.mesh, uniform.mesh);
+}
+
+#[test]
+fn debris_smaller_than_the_target_is_copied_unchanged() {
+    // A sphere plus a far-away 1 mm triangle: the triangle cannot carry 10 mm edges.
+    let mut input = icosphere(100.0, 3);
+    let n = input.positions.len() as u32;
+    input
+        .positions
+        .extend([[300.0, 0.0, 0.0], [301.0, 0.0, 0.0], [300.0, 1.0, 0.0]]);
+    input.faces.push([n, n + 1, n + 2]);
+    let out = remesh(
+        &input,
+        &RemeshOptions {
+            target_edge_mm: 10.0,
+            ..RemeshOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(out.report.components_kept_unchanged, 1);
+    let m = &out.mesh;
+    assert_valid(m);
+    let last = *m.faces.last().unwrap();
+    assert_eq!(
+        last.map(|v| m.positions[v as usize]),
+        [[300.0, 0.0, 0.0], [301.0, 0.0, 0.0], [300.0, 1.0, 0.0]]
+    );
+    assert_eq!(Topology::build(m).unwrap().component_count(), 2);
+    assert!(provenance_error(&input, m, &out.provenance) < 1e-9 * input.diagonal());
+    assert_eq!(
+        out.provenance.last().unwrap().face,
+        input.faces.len() as u32 - 1
+    );
 }
