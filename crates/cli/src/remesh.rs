@@ -161,6 +161,13 @@ pub fn run(args: &RemeshArgs) -> anyhow::Result<()> {
             q.input_to_output.max_mm,
             q.rms_mm
         );
+        if q.components_kept_unchanged > 0 {
+            outln!(
+                o,
+                "  debris        {} component(s) smaller than 16 target triangles copied unchanged (`flatcut clean --keep largest` drops them)",
+                q.components_kept_unchanged
+            );
+        }
         outln!(
             o,
             "  holes         {} ({} filled)",

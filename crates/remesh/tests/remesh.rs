@@ -116,9 +116,11 @@ fn sphere_stays_on_the_sphere_within_the_chord_bound() {
         let d = norm(*p);
         assert!(d <= r + 1e-9 && d >= r - sag_in - 1e-9, "|p| = {d}");
     }
-    // Centroids: the output triangle's own sagitta on top.
+    // Centroids: the output triangle's own sagitta on top. No face is flipped: every
+    // normal points away from the centre.
     for f in &m.faces {
         let [a, b, c] = f.map(|i| m.positions[i as usize]);
+        assert!(dot(flatcut_mesh::vec3::cross(sub(b, a), sub(c, a)), a) > 0.0);
         let rho = circum(a, b, c);
         let cen = scale(add(add(a, b), c), 1.0 / 3.0);
         let bound = sag_in + r - (r * r - rho * rho).sqrt();
@@ -156,6 +158,11 @@ fn planar_disk_stays_planar_and_keeps_its_boundary() {
     let m = &out.mesh;
     assert_valid(m);
     assert!(m.positions.iter().all(|p| p[2] == 0.0));
+    // No face flipped: every normal is +z like the input's.
+    for f in &m.faces {
+        let [a, b, c] = f.map(|i| m.positions[i as usize]);
+        assert!(flatcut_mesh::vec3::cross(sub(b, a), sub(c, a))[2] > 0.0);
+    }
     let dev = boundary_deviation(&input, m);
     assert!(dev <= 1e-9 * input.diagonal(), "boundary off by {dev}");
     let t = Topology::build(m).unwrap();
