@@ -21,6 +21,7 @@ mod process;
 mod trim;
 mod surface;
 mod run;
+mod remesh;
 mod util;
 
 use std::process::ExitCode;
@@ -56,6 +57,8 @@ enum Command {
     /// Run pipeline recipes (TOML) end to end into output folders with a report; no
     /// argument runs the bundled wetsuit demo.
     Run(run::RunArgs),
+    /// Remesh a scan to a working edge length (and/or decimate it), fill small holes, report quality.
+    Remesh(remesh::RemeshArgs),
 }
 
 fn main() -> ExitCode {
@@ -74,6 +77,7 @@ fn main() -> ExitCode {
         Command::Trim(args) => trim::run(args),
         Command::Surface(args) => surface::run(args),
         Command::Run(args) => run::run(args),
+        Command::Remesh(args) => remesh::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,8 +3,10 @@
 //! of its faces' planes (area-weighted); an edge costs the quadric error at the position
 //! minimising it; the cheapest edge is collapsed until the face budget is met. Boundary
 //! edges add a heavily weighted plane through the edge, perpendicular to its face, so the
-//! outline stays in place. A binary heap with per-edge stamps replaces the re-sorting of a
-//! priority queue (lazy invalidation): stale entries are skipped when popped.
+//! outline stays in place. The binary heap is updated lazily: a popped edge's cost is
+//! recomputed and, if it rose since it was queued, the edge goes back in; nothing is pushed
+//! when a collapse changes the neighbourhood (that would grow the heap tenfold, and its
+//! cache misses dominated the run time).
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -27,6 +29,8 @@ const BOUNDARY_WEIGHT: f64 = 100.0;
 /// A collapse may turn a surrounding face's normal by at most this much (cosine of ~78°):
 /// beyond it the face is close to folding over.
 const MIN_NORMAL_COS: f64 = 0.2;
+/// Rounds of retrying the edges the checks refused once the queue has run dry.
+const MAX_RETRY_ROUNDS: usize = 8;
 /// A face shrinking below this fraction of its area counts as degenerate.
 const DEGENERATE_REL: f64 = 1e-12;
 /// The 3×3 quadric system counts as singular below this determinant relative to the cube of
@@ -131,7 +135,6 @@ fn qoptimum(q: &Quadric) -> Option<[f64; 3]> {
 struct Entry {
     cost: f64,
     edge: u32,
-    stamp: u32,
 }
 
 impl PartialEq for Entry {
@@ -204,7 +207,6 @@ pub fn decimate(mesh: &TriMesh, opts: &DecimateOptions) -> Result<Decimated, Rem
         }
     }
     let ne = m.edge_count();
-    let mut stamp = vec![0u32; ne];
     let best = |m: &HalfMesh, q: &[Quadric], e: u32| -> ([f64; 3], f64) {
         let (a, b) = (m.to(2 * e + 1), m.to(2 * e));
         let qq = qadd(&q[a as usize], &q[b as usize]);
@@ -226,24 +228,48 @@ pub fn decimate(mesh: &TriMesh, opts: &DecimateOptions) -> Result<Decimated, Rem
         .map(|e| Entry {
             cost: best(&m, &q, e).1,
             edge: e,
-            stamp: 0,
         })
         .collect::<Vec<_>>()
         .into();
     let mut faces_left = mesh.faces.len();
-    let mut ring: Vec<u32> = Vec::with_capacity(32);
+    // Edges refused by the checks wait here; they may pass once their neighbourhood changed.
+    let mut refused: Vec<u32> = Vec::new();
+    let mut rounds = 0;
     while faces_left > opts.target_faces {
-        let Some(top) = heap.pop() else { break };
+        let Some(top) = heap.pop() else {
+            // Give refused edges another chance while collapses keep happening.
+            if refused.is_empty() || rounds >= MAX_RETRY_ROUNDS {
+                break;
+            }
+            rounds += 1;
+            heap.extend(
+                refused
+                    .drain(..)
+                    .filter(|&e| !m.e_dead[e as usize])
+                    .map(|e| Entry {
+                        cost: best(&m, &q, e).1,
+                        edge: e,
+                    }),
+            );
+            continue;
+        };
         let e = top.edge;
-        if m.e_dead[e as usize] || top.stamp != stamp[e as usize] {
+        if m.e_dead[e as usize] {
             continue;
         }
-        let (p, _) = best(&m, &q, e);
+        // Lazy update: costs are only recomputed when popped; an edge whose current cost
+        // is no longer the smallest in the queue goes back in at that cost.
+        let (p, cost) = best(&m, &q, e);
+        if cost > top.cost && heap.peek().is_some_and(|next| cost > next.cost) {
+            heap.push(Entry { cost, edge: e });
+            continue;
+        }
         let removed_faces = if m.is_boundary_e(e) { 1 } else { 2 };
         let h = [2 * e + 1, 2 * e]
             .into_iter()
             .find(|&h| m.collapse_ok(h) && collapse_keeps_normals(&m, h, p));
         let Some(h) = h else {
+            refused.push(e);
             continue;
         };
         let (v0, v1) = (m.from(h), m.to(h));
@@ -251,16 +277,6 @@ pub fn decimate(mesh: &TriMesh, opts: &DecimateOptions) -> Result<Decimated, Rem
         m.pos[v1 as usize] = p;
         q[v1 as usize] = qadd(&q[v1 as usize], &q[v0 as usize]);
         faces_left -= removed_faces;
-        ring.clear();
-        m.for_out(v1, |g| ring.push(g >> 1));
-        for &re in &ring {
-            stamp[re as usize] += 1;
-            heap.push(Entry {
-                cost: best(&m, &q, re).1,
-                edge: re,
-                stamp: stamp[re as usize],
-            });
-        }
     }
     let (out, _) = m.to_trimesh();
     let bvh = Bvh::build(mesh);

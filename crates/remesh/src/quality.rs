@@ -79,6 +79,8 @@ pub struct QualityReport {
     pub holes: Vec<Hole>,
     /// How many of them were filled.
     pub holes_filled: usize,
+    /// Components too small for the target (scan debris) copied unchanged.
+    pub components_kept_unchanged: usize,
 }
 
 /// Quality of `output` against the surface `input`; `excluded[v]` marks output vertices in

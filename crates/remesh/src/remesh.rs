@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::RemeshError;
-use crate::halfedge::{HalfMesh, check_manifold};
+use crate::halfedge::{HalfMesh, check_manifold, twin};
 use crate::holes::{fan_fill, find_holes};
 use crate::quality::{QualityReport, quality_with_bvh};
 
@@ -33,6 +33,15 @@ const MIN_TARGET_REL: f64 = 1e-6;
 /// Feature chains made only of detected creases shorter than this many target edges are
 /// scan noise, not creases: they are dropped.
 const MIN_CREASE_CHAIN_EDGES: f64 = 2.0;
+/// Components with less area than this many equilateral triangles of the target edge (a
+/// 4 × 4 patch, about two target edges across) are copied unchanged: at that size the
+/// boundary corners pin every vertex and remeshing only tangles them (the scan's debris
+/// islands of 5–15 target triangles did exactly that).
+const TINY_COMPONENT_TRIANGLES: f64 = 16.0;
+/// Faces with a corner below this angle (degrees) after the rounds are treated as slivers
+/// and removed by a flip or collapse where allowed; at most `SLIVER_PASSES` sweeps.
+const SLIVER_ANGLE_DEG: f64 = 5.0;
+const SLIVER_PASSES: usize = 3;
 /// Corners are judged on the polyline between the points this fraction of the target edge
 /// away on either side (so sub-target noise on a boundary does not make corners).
 const CORNER_WINDOW_REL: f64 = 0.5;
@@ -214,6 +223,10 @@ struct Work<'a> {
 }
 
 /// Remeshes `mesh` to edges of about `opts.target_edge_mm` (see the module docs).
+///
+/// Components whose area is below `TINY_COMPONENT_TRIANGLES` target-sized triangles (scan
+/// debris) cannot carry the target resolution; they are copied unchanged and counted in
+/// the report's `components_kept_unchanged`.
 pub fn remesh(mesh: &TriMesh, opts: &RemeshOptions) -> Result<Remeshed, RemeshError> {
     mesh.validate()?;
     if mesh.faces.is_empty() {
@@ -222,6 +235,62 @@ pub fn remesh(mesh: &TriMesh, opts: &RemeshOptions) -> Result<Remeshed, RemeshEr
     check_options(mesh, opts)?;
     let topo = Topology::build(mesh)?;
     check_manifold(mesh, &topo)?;
+    let t = opts.target_edge_mm;
+    let tiny_area = TINY_COMPONENT_TRIANGLES * 3f64.sqrt() / 4.0 * t * t;
+    let mut comp_area = vec![0.0; topo.component_count()];
+    for (f, face) in mesh.faces.iter().enumerate() {
+        let [a, b, c] = face.map(|i| mesh.positions[i as usize]);
+        comp_area[topo.face_components()[f] as usize] += 0.5 * norm(cross(sub(b, a), sub(c, a)));
+    }
+    let tiny: Vec<bool> = comp_area.iter().map(|&a| a < tiny_area).collect();
+    if !tiny.iter().any(|&x| x) || tiny.iter().all(|&x| x) {
+        return remesh_manifold(mesh, topo, opts);
+    }
+    let (big, small): (Vec<u32>, Vec<u32>) = (0..mesh.faces.len() as u32)
+        .partition(|&f| !tiny[topo.face_components()[f as usize] as usize]);
+    let (sub_mesh, _) = flatcut_mesh::submesh(mesh, &big);
+    let sub_topo = Topology::build(&sub_mesh)?;
+    let mut r = remesh_manifold(&sub_mesh, sub_topo, opts)?;
+    for p in &mut r.provenance {
+        p.face = big[p.face as usize];
+    }
+    // Append the small components verbatim, each vertex mapped to one of its own faces.
+    let mut local = vec![INVALID; mesh.positions.len()];
+    for &f in &small {
+        let face = mesh.faces[f as usize];
+        let mut out_face = [0u32; 3];
+        for (slot, &v) in face.iter().enumerate() {
+            if local[v as usize] == INVALID {
+                local[v as usize] = r.mesh.positions.len() as u32;
+                r.mesh.positions.push(mesh.positions[v as usize]);
+                let mut b = [0.0; 3];
+                b[slot] = 1.0;
+                r.provenance.push(Provenance {
+                    face: f,
+                    barycentric: b,
+                    filled: false,
+                });
+            }
+            out_face[slot] = local[v as usize];
+        }
+        r.mesh.faces.push(out_face);
+    }
+    let filled: Vec<bool> = r.provenance.iter().map(|p| p.filled).collect();
+    let holes = std::mem::take(&mut r.report.holes);
+    let n_filled = r.report.holes_filled;
+    r.report = crate::quality::quality_report(&r.mesh, mesh, Some(t), &filled);
+    r.report.holes = holes;
+    r.report.holes_filled = n_filled;
+    r.report.components_kept_unchanged = tiny.iter().filter(|&&x| x).count();
+    Ok(r)
+}
+
+/// [`remesh`] of a checked manifold mesh.
+fn remesh_manifold(
+    mesh: &TriMesh,
+    topo: Topology,
+    opts: &RemeshOptions,
+) -> Result<Remeshed, RemeshError> {
     let target = opts.target_edge_mm;
     let holes = find_holes(mesh, &topo, opts.fill_holes_perimeter_mm);
     let any_filled = holes.iter().any(|h| h.filled);
@@ -244,6 +313,7 @@ pub fn remesh(mesh: &TriMesh, opts: &RemeshOptions) -> Result<Remeshed, RemeshEr
         w.flip_to_valence();
         w.relax();
     }
+    w.remove_slivers();
     w.final_projection();
     if any_filled {
         w.fair_filled(n_input_faces, target);
@@ -1075,6 +1145,74 @@ impl<'a> Work<'a> {
             let t = face.map(|i| self.surf.positions[i as usize]);
             let (_, b) = flatcut_mesh::bvh::closest_point_on_triangle(p, t[0], t[1], t[2]);
             self.v_len[v] = (0..3).map(|i| b[i] * self.sizing[face[i] as usize]).sum();
+        }
+    }
+
+    /// Last resort against slivers the rounds left (scan debris, tangled input): a face with
+    /// a corner below `SLIVER_ANGLE_DEG` loses its shortest edge by collapse (a needle) or
+    /// has its longest edge flipped (a cap), when the usual checks allow it.
+    fn remove_slivers(&mut self) {
+        let lim = SLIVER_ANGLE_DEG.to_radians();
+        for _ in 0..SLIVER_PASSES {
+            let mut changed = false;
+            for f in 0..self.m.f_h.len() as u32 {
+                if self.m.f_dead[f as usize] {
+                    continue;
+                }
+                let h0 = self.m.f_h[f as usize];
+                let hs = [h0, self.m.next(h0), self.m.next(self.m.next(h0))];
+                let p = |v: u32| self.m.pos[v as usize];
+                let [a, b, c] = hs.map(|h| p(self.m.from(h)));
+                let ang = flatcut_mesh::geometry::triangle_angles(a, b, c);
+                let (kmin, amin) = (0..3).fold((0, f64::INFINITY), |acc, k| {
+                    if ang[k] < acc.1 { (k, ang[k]) } else { acc }
+                });
+                if amin >= lim {
+                    continue;
+                }
+                // Corner k sits at from(hs[k]); the opposite edge is hs[(k + 1) % 3].
+                let kmax = (0..3).fold(0, |m, k| if ang[k] > ang[m] { k } else { m });
+                let long = hs[(kmax + 1) % 3];
+                let short = hs[(kmin + 1) % 3];
+                let e = long >> 1;
+                if ang[kmax] > std::f64::consts::FRAC_PI_2
+                    && self.e_chain[e as usize] == INVALID
+                    && self.m.flip_ok(e)
+                {
+                    let (x, y) = (self.m.to(2 * e + 1), self.m.to(2 * e));
+                    let (c1, d1) = (
+                        self.m.to(self.m.next(2 * e)),
+                        self.m.to(self.m.next(2 * e + 1)),
+                    );
+                    if self.flip_geometry_ok(x, y, c1, d1) {
+                        self.m.flip(e);
+                        changed = true;
+                        continue;
+                    }
+                }
+                for h in [short, twin(short)] {
+                    if self.collapse_allowed(h) {
+                        let removed = self.m.from(h);
+                        let k = self.v_chain[removed as usize];
+                        if k != INVALID {
+                            self.chain_count[k as usize] -= 1;
+                        }
+                        for (del, kept) in self.m.collapse(h) {
+                            if del != INVALID
+                                && self.e_chain[del as usize] != INVALID
+                                && self.e_chain[kept as usize] == INVALID
+                            {
+                                self.e_chain[kept as usize] = self.e_chain[del as usize];
+                            }
+                        }
+                        changed = true;
+                        break;
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
         }
     }
 

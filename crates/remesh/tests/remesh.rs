@@ -116,9 +116,11 @@ fn sphere_stays_on_the_sphere_within_the_chord_bound() {
         let d = norm(*p);
         assert!(d <= r + 1e-9 && d >= r - sag_in - 1e-9, "|p| = {d}");
     }
-    // Centroids: the output triangle's own sagitta on top.
+    // Centroids: the output triangle's own sagitta on top. No face is flipped: every
+    // normal points away from the centre.
     for f in &m.faces {
         let [a, b, c] = f.map(|i| m.positions[i as usize]);
+        assert!(dot(flatcut_mesh::vec3::cross(sub(b, a), sub(c, a)), a) > 0.0);
         let rho = circum(a, b, c);
         let cen = scale(add(add(a, b), c), 1.0 / 3.0);
         let bound = sag_in + r - (r * r - rho * rho).sqrt();
@@ -156,6 +158,11 @@ fn planar_disk_stays_planar_and_keeps_its_boundary() {
     let m = &out.mesh;
     assert_valid(m);
     assert!(m.positions.iter().all(|p| p[2] == 0.0));
+    // No face flipped: every normal is +z like the input's.
+    for f in &m.faces {
+        let [a, b, c] = f.map(|i| m.positions[i as usize]);
+        assert!(flatcut_mesh::vec3::cross(sub(b, a), sub(c, a))[2] > 0.0);
+    }
     let dev = boundary_deviation(&input, m);
     assert!(dev <= 1e-9 * input.diagonal(), "boundary off by {dev}");
     let t = Topology::build(m).unwrap();
@@ -461,17 +468,9 @@ fn feature_line_is_kept_as_a_polyline() {
 #[test]
 #[ignore = "release-only: 148k triangles (a few seconds in release, minutes in debug)"]
 fn mh_body_scanlike_at_8mm_meets_the_issue_numbers() {
-    let Some(scan) = real_mesh("mh_body_scanlike.obj") else {
+    let Some(input) = real_mesh("mh_body_scanlike.obj") else {
         return;
     };
-    // The scan carries three 11-face debris islands of self-overlapping junk; removing
-    // them is `flatcut clean`'s job, so the body (the largest component) is remeshed.
-    let topo = Topology::build(&scan).unwrap();
-    let body: Vec<u32> = (0..scan.faces.len() as u32)
-        .filter(|&f| topo.face_components()[f as usize] == 0)
-        .collect();
-    assert!(body.len() > 147_000);
-    let input = flatcut_mesh::submesh(&scan, &body).0;
     let out = remesh(
         &input,
         &RemeshOptions {
@@ -498,7 +497,11 @@ fn mh_body_scanlike_at_8mm_meets_the_issue_numbers() {
     // Vertices outside filled holes lie on the input surface.
     assert!(q.vertex_to_input.max_mm <= 1e-9 * input.diagonal());
     assert!(provenance_error(&input, m, &out.provenance) < 1e-9 * input.diagonal());
-    // 16 holes: the ten below 200 mm are filled, the six openings (272 mm and up) stay.
+    // The three debris islands (11 junk faces each, 5–15 target triangles of area) are
+    // copied unchanged; of the body's 16 holes the ten below 200 mm are filled and the six
+    // openings (272 mm and up) stay open.
+    assert_eq!(q.components_kept_unchanged, 3);
+    assert_eq!(q.degenerate_faces, 0);
     assert_eq!(q.holes.len(), 16);
     assert_eq!(q.holes_filled, 10);
     assert!(
@@ -508,6 +511,89 @@ fn mh_body_scanlike_at_8mm_meets_the_issue_numbers() {
             .all(|h| h.perimeter_mm > 250.0)
     );
     let t = Topology::build(m).unwrap();
-    assert_eq!(t.boundary_loops().len(), 6);
+    assert_eq!(t.boundary_loops().len(), 6 + 3);
     assert!(boundary_deviation(&input, m) <= 1e-9 * input.diagonal());
+}
+
+#[test]
+fn adaptive_sizing_follows_the_chord_rule_on_spheres() {
+    // With κ = 1/R the chord-error rule gives L = √(6εR − 3ε²): two spheres, two lengths.
+    let eps = 0.25;
+    let mut means = Vec::new();
+    for r in [40.0, 160.0] {
+        let input = icosphere(r, 5);
+        let expect = (6.0 * eps * r - 3.0 * eps * eps).sqrt();
+        let out = remesh(
+            &input,
+            &RemeshOptions {
+                target_edge_mm: expect,
+                min_edge_mm: Some(1.0),
+                max_edge_mm: Some(40.0),
+                adaptive_tolerance_mm: eps,
+                ..RemeshOptions::default()
+            },
+        )
+        .unwrap();
+        assert_valid(&out.mesh);
+        let mean = out.report.mean_edge_mm;
+        assert!(
+            (mean / expect - 1.0).abs() < 0.15,
+            "R {r}: mean {mean} vs {expect}"
+        );
+        means.push(mean);
+    }
+    // Four times the radius, twice the edge.
+    assert!((means[1] / means[0] - 2.0).abs() < 0.3, "{means:?}");
+    // Clamped to the range: a max below the rule's length (15.5 mm here) caps it, and the
+    // result is the uniform remesh at that length.
+    let input = icosphere(160.0, 4);
+    let run = |min, max| {
+        remesh(
+            &input,
+            &RemeshOptions {
+                target_edge_mm: 8.0,
+                min_edge_mm: min,
+                max_edge_mm: max,
+                adaptive_tolerance_mm: eps,
+                ..RemeshOptions::default()
+            },
+        )
+        .unwrap()
+    };
+    let capped = run(Some(4.0), Some(8.0));
+    let uniform = run(None, None);
+    assert_eq!(capped.mesh, uniform.mesh);
+}
+
+#[test]
+fn debris_smaller_than_the_target_is_copied_unchanged() {
+    // A sphere plus a far-away 1 mm triangle: the triangle cannot carry 10 mm edges.
+    let mut input = icosphere(100.0, 3);
+    let n = input.positions.len() as u32;
+    input
+        .positions
+        .extend([[300.0, 0.0, 0.0], [301.0, 0.0, 0.0], [300.0, 1.0, 0.0]]);
+    input.faces.push([n, n + 1, n + 2]);
+    let out = remesh(
+        &input,
+        &RemeshOptions {
+            target_edge_mm: 10.0,
+            ..RemeshOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(out.report.components_kept_unchanged, 1);
+    let m = &out.mesh;
+    assert_valid(m);
+    let last = *m.faces.last().unwrap();
+    assert_eq!(
+        last.map(|v| m.positions[v as usize]),
+        [[300.0, 0.0, 0.0], [301.0, 0.0, 0.0], [300.0, 1.0, 0.0]]
+    );
+    assert_eq!(Topology::build(m).unwrap().component_count(), 2);
+    assert!(provenance_error(&input, m, &out.provenance) < 1e-9 * input.diagonal());
+    assert_eq!(
+        out.provenance.last().unwrap().face,
+        input.faces.len() as u32 - 1
+    );
 }
