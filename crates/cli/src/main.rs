@@ -13,6 +13,7 @@ macro_rules! outln {
 }
 
 mod clean;
+mod dart;
 mod demo;
 mod flatten;
 mod info;
@@ -46,6 +47,8 @@ enum Command {
     Process(process::ProcessArgs),
     /// Cut a surface along lines drawn on it into named pieces, with the seam ledger.
     Trim(trim::TrimArgs),
+    /// Cut darts into a piece (boundary to tip, opened; tip one vertex), or propose where.
+    Dart(dart::DartArgs),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +64,7 @@ fn main() -> ExitCode {
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),
         Command::Trim(args) => trim::run(args),
+        Command::Dart(args) => dart::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
