@@ -3,8 +3,11 @@
 
 #![allow(clippy::unwrap_used)]
 
-use flatcut_mesh::{TriMesh, geometry, shapes, vec3};
-use flatcut_trim::{CutSpec, Cuts, PieceSpec, TrimError, Trimmed, trim};
+use flatcut_mesh::{geometry, shapes, vec3};
+use flatcut_trim::{CutSpec, Cuts, PieceSpec, TrimError, trim};
+
+mod common;
+use common::check_conservation;
 
 fn line(name: &str, points: Vec<[f64; 3]>, closed: bool) -> CutSpec {
     CutSpec {
@@ -19,126 +22,6 @@ fn seed(name: &str, p: [f64; 3]) -> PieceSpec {
     PieceSpec {
         name: name.into(),
         seed: p,
-    }
-}
-
-/// The acceptance checks every cut must pass.
-pub fn check_conservation(mesh: &TriMesh, t: &Trimmed) {
-    let diag = mesh.diagonal();
-    // Area: the pieces (kept and dropped) sum to the source, face by face.
-    let src_area = geometry::face_areas(&mesh.positions, &mesh.faces);
-    let emb_area = geometry::face_areas(&t.embedded.mesh.positions, &t.embedded.mesh.faces);
-    let mut per_face = vec![0.0; mesh.faces.len()];
-    for (f, &s) in t.embedded.face_source.iter().enumerate() {
-        per_face[s as usize] += emb_area[f];
-    }
-    for (f, (&a, &b)) in src_area.iter().zip(&per_face).enumerate() {
-        assert!(
-            (a - b).abs() <= 1e-9 * a.max(1e-300),
-            "face {f}: {a} vs {b}"
-        );
-    }
-    let total: f64 = src_area.iter().sum();
-    let pieces: f64 = t.report.pieces.iter().map(|p| p.area_mm2).sum();
-    assert!(
-        (total - pieces).abs() <= 1e-9 * total,
-        "{total} vs {pieces}"
-    );
-    // Every source face has a fate.
-    assert!(t.report.face_fates.iter().all(|f| !f.is_empty()));
-    // Each embedded line lies on its polyline.
-    for (l, chain) in t.lines.iter().zip(&t.embedded.line_vertices) {
-        let segs: Vec<([f64; 3], [f64; 3])> = l
-            .points
-            .windows(2)
-            .map(|w| (w[0].position(mesh), w[1].position(mesh)))
-            .collect();
-        for &v in chain {
-            let x = t.embedded.mesh.positions[v as usize];
-            let d = segs
-                .iter()
-                .map(|&(a, b)| {
-                    let e = vec3::sub(b, a);
-                    let s = if vec3::norm2(e) > 0.0 {
-                        (vec3::dot(vec3::sub(x, a), e) / vec3::norm2(e)).clamp(0.0, 1.0)
-                    } else {
-                        0.0
-                    };
-                    vec3::dist(x, vec3::add(a, vec3::scale(e, s)))
-                })
-                .fold(f64::INFINITY, f64::min);
-            assert!(d <= 1e-9 * diag, "line {} vertex {v} is {d} off", l.name);
-        }
-        // The embedded chain is exactly as long as the polyline.
-        let len: f64 = chain
-            .windows(2)
-            .map(|w| {
-                vec3::dist(
-                    t.embedded.mesh.positions[w[0] as usize],
-                    t.embedded.mesh.positions[w[1] as usize],
-                )
-            })
-            .sum();
-        assert!(
-            (len - l.length).abs() <= 1e-9 * l.length,
-            "{} {len} {}",
-            l.name,
-            l.length
-        );
-    }
-    // Provenance: every piece vertex is where its source point is.
-    for p in &t.pieces {
-        for (v, sp) in p.vertex_source.iter().enumerate() {
-            assert!(vec3::dist(p.mesh.positions[v], sp.position(mesh)) <= 1e-9 * diag);
-        }
-        assert_eq!(p.face_source.len(), p.mesh.faces.len());
-    }
-    // The ledger: valid, chains on piece boundaries, mates equal in 3D length.
-    t.ledger.check().unwrap();
-    for s in &t.ledger.seams {
-        let piece = |n: &str| t.pieces.iter().find(|p| p.name == n).unwrap();
-        let len = |side: &flatcut_mesh::SeamSide| -> f64 {
-            let p = piece(&side.piece);
-            side.vertices
-                .windows(2)
-                .map(|w| {
-                    vec3::dist(
-                        p.mesh.positions[w[0] as usize],
-                        p.mesh.positions[w[1] as usize],
-                    )
-                })
-                .sum()
-        };
-        let (la, lb) = (len(&s.a), len(&s.b));
-        assert!((la - lb).abs() <= 1e-9 * la, "seam {}: {la} vs {lb}", s.id);
-        assert!((la - s.length_3d_mm).abs() <= 1e-9 * la);
-        // Same source points, k by k.
-        let (pa, pb) = (piece(&s.a.piece), piece(&s.b.piece));
-        for (&va, &vb) in s.a.vertices.iter().zip(&s.b.vertices) {
-            assert_eq!(
-                pa.mesh.positions[va as usize],
-                pb.mesh.positions[vb as usize]
-            );
-        }
-        // Consecutive chain vertices are joined by a boundary edge of the piece.
-        for side in [&s.a, &s.b] {
-            let p = piece(&side.piece);
-            let topo = flatcut_mesh::Topology::build(&p.mesh).unwrap();
-            for w in side.vertices.windows(2) {
-                let e = (w[0].min(w[1]), w[0].max(w[1]));
-                let k = topo
-                    .edges()
-                    .iter()
-                    .position(|x| (x[0], x[1]) == e)
-                    .expect("edge");
-                assert_eq!(
-                    topo.edge_face_counts()[k],
-                    1,
-                    "seam {} edge {e:?} not on boundary",
-                    s.id
-                );
-            }
-        }
     }
 }
 
@@ -481,4 +364,67 @@ fn dress_form_wetsuit_gives_eight_disks() {
     // shortcut between its landmarks.
     let w = t.lines.iter().find(|l| l.name == "waist").unwrap().length;
     assert!(w <= 700.0 + 1e-6 && w > 690.0, "{w}");
+}
+
+#[test]
+fn lines_crossing_inside_faces_on_a_flat_sheet() {
+    // Flat: geodesics are straight, so lengths and the crossing point have closed forms.
+    let mesh = shapes::grid_patch(12, 12, 100.0, |_, _| 0.0);
+    let (a0, a1) = ([-50.0, -31.3, 0.0], [50.0, 27.1, 0.0]);
+    let (b0, b1) = ([-17.7, -50.0, 0.0], [23.9, 50.0, 0.0]);
+    let cuts = Cuts {
+        cuts: vec![
+            line("a", vec![a0, a1], false),
+            line("b", vec![b0, b1], false),
+        ],
+        pieces: vec![
+            seed("north-west", [-40.0, 0.0, 0.0]),
+            seed("north-east", [40.0, 40.0, 0.0]),
+            seed("south-west", [-40.0, -45.0, 0.0]),
+            seed("south-east", [40.0, 0.0, 0.0]),
+        ],
+        ..Default::default()
+    };
+    let t = trim(&mesh, &cuts).unwrap();
+    check_conservation(&mesh, &t);
+    assert_eq!(t.pieces.len(), 4);
+    assert!(t.report.pieces.iter().all(|p| p.disk));
+    assert!((t.lines[0].length - vec3::dist(a0, a1)).abs() < 1e-9);
+    assert!((t.lines[1].length - vec3::dist(b0, b1)).abs() < 1e-9);
+    // The crossing: one vertex on both chains, at the intersection of the two segments.
+    let shared: Vec<u32> = t.embedded.line_vertices[0]
+        .iter()
+        .copied()
+        .filter(|v| t.embedded.line_vertices[1].contains(v))
+        .collect();
+    assert_eq!(shared.len(), 1);
+    let x = t.embedded.mesh.positions[shared[0] as usize];
+    let (d1, d2) = (vec3::sub(a1, a0), vec3::sub(b1, b0));
+    let s = ((b0[0] - a0[0]) * d2[1] - (b0[1] - a0[1]) * d2[0]) / (d1[0] * d2[1] - d1[1] * d2[0]);
+    let exact = vec3::add(a0, vec3::scale(d1, s));
+    assert!(vec3::dist(x, exact) < 1e-9, "{x:?} vs {exact:?}");
+    // Each line is split at the crossing into two seams.
+    assert_eq!(t.ledger.seams.len(), 4);
+
+    // A bow-tie loop crossing itself inside a face.
+    let c = Cuts {
+        cuts: vec![line(
+            "bow-tie",
+            vec![
+                [-31.0, -27.0, 0.0],
+                [33.0, 29.0, 0.0],
+                [35.0, -24.0, 0.0],
+                [-28.0, 31.0, 0.0],
+            ],
+            true,
+        )],
+        ..Default::default()
+    };
+    match trim(&mesh, &c).unwrap_err() {
+        TrimError::SelfCrossing { line, point_mm } => {
+            assert_eq!(line, "bow-tie");
+            assert!(vec3::norm(point_mm) < 20.0, "{point_mm:?}");
+        }
+        e => panic!("{e}"),
+    }
 }
