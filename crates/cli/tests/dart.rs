@@ -163,3 +163,71 @@ fn bad_darts_fail_naming_the_dart_and_write_nothing() {
     assert!(!out.exists());
     assert!(!dir.path().join("out.seams.json").exists());
 }
+
+#[test]
+fn darts_join_an_existing_ledger() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("back.obj");
+    let m = bump();
+    write(&input, &m, Units::Mm);
+    // A ledger in which the whole rim of "back" is sewn to a piece "front".
+    let topo = flatcut_mesh::Topology::build(&m).unwrap();
+    let rim: Vec<u32> = topo.boundary_loops()[0].iter().map(|v| v.0).collect();
+    let mut ledger = SeamLedger::new(vec!["front".into(), "back".into()]);
+    ledger.seams.push(flatcut_mesh::Seam {
+        id: "rim/0".into(),
+        line: "rim".into(),
+        kind: SeamKind::Seam,
+        a: flatcut_mesh::SeamSide {
+            piece: "back".into(),
+            vertices: rim.clone(),
+        },
+        b: flatcut_mesh::SeamSide {
+            piece: "front".into(),
+            vertices: (0..rim.len() as u32).collect(),
+        },
+        length_3d_mm: 600.0,
+        start_mm: [0.0; 3],
+        end_mm: [0.0; 3],
+    });
+    let ledger_in = dir.path().join("seams.json");
+    std::fs::write(&ledger_in, serde_json::to_string(&ledger).unwrap()).unwrap();
+    let start = m.positions[rim[4] as usize];
+    let out = dir.path().join("back_darted.obj");
+    let seams_out = dir.path().join("all_seams.json");
+    let r = flatcut()
+        .arg("dart")
+        .arg(&input)
+        .arg(&out)
+        .arg("--from")
+        .arg(format!("{},{},{}", start[0], start[1], start[2]))
+        .args(["--tip", "0,0,30", "--ledger"])
+        .arg(&ledger_in)
+        .arg("--seams")
+        .arg(&seams_out)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let l: SeamLedger =
+        serde_json::from_str(&std::fs::read_to_string(&seams_out).unwrap()).unwrap();
+    l.check().unwrap();
+    let ids: Vec<&str> = l.seams.iter().map(|s| s.id.as_str()).collect();
+    assert_eq!(ids, ["dart-1/0", "rim/0.1", "rim/0.2"]);
+    // The input ledger is untouched; writing over it is refused.
+    let again: SeamLedger =
+        serde_json::from_str(&std::fs::read_to_string(&ledger_in).unwrap()).unwrap();
+    assert_eq!(again, ledger);
+    let r = flatcut()
+        .arg("dart")
+        .arg(&input)
+        .arg(&out)
+        .arg("--from")
+        .arg(format!("{},{},{}", start[0], start[1], start[2]))
+        .args(["--tip", "0,0,30", "--ledger"])
+        .arg(&ledger_in)
+        .arg("--seams")
+        .arg(&ledger_in)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(1));
+}
