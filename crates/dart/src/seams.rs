@@ -129,6 +129,11 @@ pub fn append_dart_seams(
         breaks.sort_unstable();
         breaks.dedup();
         let n = seam.a.vertices.len();
+        if n < 2 || seam.b.vertices.len() != n {
+            // Malformed (SeamLedger::check refuses it); kept as it is rather than guessed at.
+            renumbered.push(seam.clone());
+            continue;
+        }
         let mut cuts = vec![0];
         cuts.extend(breaks.iter().copied().filter(|&b| b > 0 && b + 1 < n));
         cuts.push(n - 1);
