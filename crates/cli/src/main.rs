@@ -13,6 +13,7 @@ macro_rules! outln {
 }
 
 mod clean;
+mod dart;
 mod demo;
 mod export;
 mod flatten;
@@ -59,6 +60,8 @@ enum Command {
     Run(run::RunArgs),
     /// Remesh a scan to a working edge length (and/or decimate it), fill small holes, report quality.
     Remesh(remesh::RemeshArgs),
+    /// Cut darts into a piece (boundary to tip, opened; tip one vertex), or propose where.
+    Dart(dart::DartArgs),
 }
 
 fn main() -> ExitCode {
@@ -78,6 +81,7 @@ fn main() -> ExitCode {
         Command::Surface(args) => surface::run(args),
         Command::Run(args) => run::run(args),
         Command::Remesh(args) => remesh::run(args),
+        Command::Dart(args) => dart::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
