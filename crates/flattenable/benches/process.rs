@@ -69,6 +69,22 @@ fn bench(c: &mut Criterion) {
             );
         }
         let chol = t.elapsed().as_secs_f64() / reps as f64;
+        // The zero target (no pull-backs) once, for the iteration count beside the default.
+        let zero = ProcessOptions {
+            target: flatcut_flattenable::Target::Zero,
+            ..Default::default()
+        };
+        let t = Instant::now();
+        let rz = process(&mesh, &zero);
+        let zsecs = t.elapsed().as_secs_f64();
+        if let Ok(p) = &rz {
+            eprintln!(
+                "{faces} faces, zero target: {} iterations (+{} rejected), {:.1} ms",
+                p.report.iterations,
+                p.report.pieces[0].rejected_steps,
+                zsecs * 1e3
+            );
+        }
         let rej = report.pieces[0].rejected_steps;
         eprintln!(
             "{faces} faces, {} interior: {iters} iterations (+{rej} rejected), θ_err {err:.1e}, {:.1} ms total, {:.2} ms per tried step, one Cholesky of A Aᵀ {:.2} ms",

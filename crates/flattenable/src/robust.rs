@@ -14,10 +14,16 @@
 //! reduces f by at least 10 %; then the plain damped step finishes (the filter's fixed
 //! point is not θ = 2π, as the paper notes).
 //!
+//! `Target::Detail` adds pull-backs: whenever the surface is back within `PULL_BACK_AT_RAD`
+//! of θ = 2π, one step along the constraint set towards the input (the null-space
+//! projection of v⁰ − v), after which the plain steps restore θ = 2π; the rounds approach a
+//! stationary point of the paper's Eq. 1 (least total displacement), not just the end of a
+//! path of least steps.
+//!
 //! Stops: θ_err ≤ tolerance (converged); the iteration limit; μ beyond `MU_MAX` (no
-//! decreasing unfolded step exists at any damping); or no 10 % gain of the best ‖θ − 2π‖
-//! in `STALL_WINDOW` iterations. The best unfolded state (lowest merit) is returned in
-//! every case.
+//! decreasing unfolded step exists at any damping); or no 10 % gain of the merit
+//! ‖θ − 2π‖² in `STALL_WINDOW` iterations. The best unfolded state (lowest merit) is
+//! returned when not converged.
 
 use std::f64::consts::TAU;
 
