@@ -93,7 +93,9 @@ fn bench(c: &mut Criterion) {
             secs * 1e3 / (iters + rej).max(1) as f64,
             chol * 1e3,
         );
-        if r.is_err() {
+        // The 100k-face piece is timed by the single run above (a criterion sample of ten
+        // runs would take minutes on the 2 shared cores).
+        if r.is_err() || faces > 50_000 {
             continue;
         }
         group.bench_function(format!("robust_cap_{faces}_faces"), |b| {

@@ -64,7 +64,7 @@ const RHO_ACCEPT: f64 = 1e-4;
 const PULL_BACK_AT_RAD: f64 = 1e-7;
 /// At most this many pull-backs per piece (each costs a factorisation and a few
 /// restoring iterations).
-const PULL_BACKS: usize = 10;
+const PULL_BACKS: usize = 4;
 /// Pull-backs stop when one would shorten the RMS displacement by less than this fraction.
 const PULL_BACK_MIN_GAIN: f64 = 5e-3;
 /// Damping divisor after a very good step (ρ > 0.75). 10 rather than the textbook 3: the end

@@ -93,35 +93,44 @@ fn saddle_12_and_25_converge_with_the_normal_metric() {
 }
 
 #[test]
-fn saddle_with_the_isotropic_metric_stops_cleanly_unfolded() {
-    // The paper's isotropic metric stalls on the saddle (measured: 8.7e-3 at 12×12): the
-    // error says how far it got and carries an unfolded best state.
+fn normal_metric_keeps_saddle_triangles_better_shaped_than_the_isotropic_one() {
+    // With the paper's isotropic metric the 12×12 saddle now converges too (it stalled at
+    // 9e-3 under the old damping rule), but by sliding vertices sideways: measured min corner
+    // 4.2° against 30° with the normal-preferring metric. Either run either converges flat
+    // and unfolded or stops with the clean error.
     let mesh = common::saddle(12);
-    let opts = ProcessOptions {
-        tangential_penalty: 1.0,
-        ..Default::default()
+    let min_angle = |tangential_penalty: f64| -> f64 {
+        let opts = ProcessOptions {
+            tangential_penalty,
+            ..Default::default()
+        };
+        let r = match process(&mesh, &opts) {
+            Ok(r) => {
+                assert_flat_unfolded(&mesh, &r);
+                r
+            }
+            Err(FlattenableError::NotConverged {
+                best_theta_err,
+                partial,
+                ..
+            }) => {
+                assert!(best_theta_err < partial.report.theta_err[0]);
+                assert_eq!(partial.report.folded_faces, 0);
+                assert!(
+                    partial
+                        .report
+                        .messages
+                        .iter()
+                        .any(|m| m.contains("negative total angle defect"))
+                );
+                *partial
+            }
+            Err(e) => panic!("{e}"),
+        };
+        r.report.pieces[0].min_angle_deg
     };
-    match process(&mesh, &opts) {
-        Err(FlattenableError::NotConverged {
-            best_theta_err,
-            partial,
-            ..
-        }) => {
-            assert!(best_theta_err > 1e-9 && best_theta_err < partial.report.theta_err[0]);
-            assert_eq!(partial.report.folded_faces, 0);
-            assert!(!partial.report.converged);
-            assert_eq!(partial.report.final_theta_err, best_theta_err);
-            assert!(
-                partial
-                    .report
-                    .messages
-                    .iter()
-                    .any(|m| m.contains("negative total angle defect"))
-            );
-        }
-        Ok(r) => assert_flat_unfolded(&mesh, &r),
-        Err(e) => panic!("{e}"),
-    }
+    let (iso, normal) = (min_angle(1.0), min_angle(10.0));
+    assert!(iso < normal, "isotropic {iso}° vs normal {normal}°");
 }
 
 #[test]
