@@ -233,7 +233,7 @@ fn boundary_ring_weight_keeps_the_ring_closer() {
 
 /// The large grids (release only): robust mode converges on all four to 1e-9 with
 /// no fold (docs/algorithms/flattenable.md: cap 100×100 in ~160 iterations, saddle 50×50 in
-/// ~140, saddle 100×100 in ~300 after a long slow phase while the excess angle moves to the
+/// ~130, saddle 100×100 in ~290 after a long slow phase while the excess angle moves to the
 /// boundary).
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
@@ -253,7 +253,7 @@ fn detail_target_moves_less_than_the_zero_target() {
     // Target::Detail pulls the converged surface back towards the input along the
     // constraint set (a stationary point of the paper's Eq. 1); the zero target ends where
     // the memoryless least-norm steps end. Both flat and unfolded; the detail one closer to
-    // the input (measured: cap 0.0710 vs 0.0716, saddle 0.0249 vs 0.0280 RMS).
+    // the input (measured: cap 0.0710 vs 0.0716, saddle 0.0267 vs 0.0280 RMS).
     for mesh in [common::sphere_cap(25), common::saddle(25)] {
         let rms = |target| {
             let r = robust(
