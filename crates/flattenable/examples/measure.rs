@@ -1,6 +1,7 @@
 //! Measurements behind docs/algorithms/flattenable.md: `cargo run --release -p
 //! flatcut_flattenable --example measure -- table` (or probe with env N = grid size,
-//! W = cap|saddle, PAPER/LS/TAN to add variants; probe_weights; probe_targets).
+//! W = cap|saddle, TARGET=zero, PAPER/LS/TAN to add variants; probe_weights; probe_targets
+//! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 
@@ -453,7 +454,7 @@ fn bodies() {
     }
 }
 
-/// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets]`
+/// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets|real|bodies]`
 /// prints the measurement tables of docs/algorithms/flattenable.md (a tool, not a test: it asserts
 /// nothing; the tests assert the numbers that must hold).
 fn main() {
@@ -465,7 +466,9 @@ fn main() {
         "real" => real(),
         "bodies" => bodies(),
         other => {
-            eprintln!("unknown table '{other}': use table, probe, probe_weights or probe_targets");
+            eprintln!(
+                "unknown table '{other}': use table, probe, probe_weights, probe_targets, real or bodies"
+            );
             std::process::exit(2);
         }
     }

@@ -77,6 +77,10 @@ const MU_DOWN: f64 = 10.0;
 /// the restoring steps then need one or two iterations.
 const PULL_BACK_MAX_ERR_RAD: f64 = 1e-4;
 const PULL_BACK_HALVINGS: usize = 20;
+/// A pull-back is undone when the plain steps have not restored θ_err ≤ `PULL_BACK_AT_RAD`
+/// within this many iterations (on the 100k-face cap restoring took longer than the
+/// iteration limit allowed; grids up to 100×100 restore in 3–15).
+const PULL_BACK_RESTORE_MAX: usize = 30;
 /// Smallest relative damping of the pull-back's projection (its rows may nearly vanish at
 /// flat vertices; a projection needs no step control, only a defined factorisation).
 const PULL_BACK_MU: f64 = 1e-10;
@@ -136,13 +140,36 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
     } else {
         0
     };
+    // The iteration of the last pull-back and the restored state before it, until the plain
+    // steps have restored θ = 2π again.
+    let mut restoring: Option<(usize, Vec<[f64; 3]>)> = None;
     // Extra per-vertex stiffness (≥ 1) earned by vertices of faces that would fold.
     let mut stiff = vec![1.0f64; n];
     let mut mu = MU_START;
     let limit = opts.iteration_limit();
     report.stop_reason = "iteration limit".into();
     loop {
+        if let Some((at, before)) = &restoring {
+            if err <= PULL_BACK_AT_RAD {
+                restoring = None;
+            } else if report.iterations >= at + PULL_BACK_RESTORE_MAX {
+                // Restoring takes too long (large pieces): undo the pull-back and finish from
+                // the restored state before it with plain steps, so that the detail target
+                // never ends worse than the zero target's path would.
+                pos = before.clone();
+                restoring = None;
+                pull_backs = 0;
+                layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+                (err, f) = Piece::errors(&theta);
+                best_at = report.iterations;
+                gain_ref = f;
+                report.messages.push(format!(
+                    "pull-back undone: θ = 2π not restored within {PULL_BACK_RESTORE_MAX} iterations"
+                ));
+            }
+        }
         if pull_backs > 0 && ls.is_none() && err <= PULL_BACK_AT_RAD {
+            let before = pos.clone();
             let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
             let interior = piece.interior_of(&pos);
             // Detail target: near the constraint set, move along its tangent space towards
@@ -219,10 +246,11 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
             report.iterations += 1;
             report.pull_backs += 1;
             report.theta_err.push(err);
-            // The merit restarts from the pulled-back point.
-            best = (f, pos.clone());
+            // The stall test restarts from the pulled-back point; the best state stays the
+            // restored one before it until the plain steps beat it.
             best_at = report.iterations;
             gain_ref = f;
+            restoring = Some((report.iterations, before));
             continue;
         }
         if err <= opts.tolerance_rad {
