@@ -231,7 +231,7 @@ fn boundary_ring_weight_keeps_the_ring_closer() {
     assert!(moved(&g1) < moved(&plain));
 }
 
-/// The large grids (release only): robust mode converges on all four to 1e-9 with
+/// The large grids (release only): robust mode converges on all three to 1e-9 with
 /// no fold (docs/algorithms/flattenable.md: cap 100×100 in ~130 iterations, saddle 50×50 in
 /// ~130, saddle 100×100 in ~290 after a long slow phase while the excess angle moves to the
 /// boundary).
