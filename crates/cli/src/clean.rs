@@ -78,6 +78,7 @@ pub fn run(args: &CleanArgs) -> anyhow::Result<()> {
         );
         let r = &report;
         outln!(o, "  welded vertices        {}", r.welded_vertices);
+        outln!(o, "  welds refused (pinch)  {}", r.refused_welds);
         outln!(o, "  degenerate faces       {}", r.degenerate_faces);
         outln!(o, "  duplicate faces        {}", r.duplicate_faces);
         outln!(o, "  flipped faces          {}", r.flipped_faces);

@@ -11,7 +11,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::geometry::is_degenerate_face;
 use crate::vec3::{cross, dot, norm2, sub};
-use crate::{FaceId, FaceLabels, INVALID, MeshError, TriMesh, VertexAttributes, VertexId};
+use crate::{
+    FaceId, FaceLabels, INVALID, MeshError, Topology, TriMesh, VertexAttributes, VertexId,
+};
 
 /// Which connected components [`clean`] keeps.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -37,6 +39,10 @@ pub struct CleanOptions {
     /// scan's resolution. Merging is transitive (a chain of close vertices becomes one), and the
     /// lowest-index vertex of each group is kept at its own position.
     pub weld_tolerance_mm: f64,
+    /// Refuse a weld whose merged vertex would be non-manifold (or on a non-manifold edge)
+    /// where the input was not: coincident corners of two scan holes stay apart instead of
+    /// pinching the surface. Default true; refused welds are counted in the report.
+    pub weld_keeps_manifold: bool,
     /// Which components to keep. Default [`Keep::All`].
     pub keep: Keep,
     /// Drop faces with a repeated vertex or zero area (area ≤ (ε · bounding-box diagonal)²,
@@ -59,6 +65,7 @@ impl Default for CleanOptions {
     fn default() -> Self {
         Self {
             weld_tolerance_mm: 0.0,
+            weld_keeps_manifold: true,
             keep: Keep::All,
             drop_degenerate: true,
             drop_duplicate_faces: true,
@@ -77,6 +84,9 @@ pub struct CleanReport {
     pub input_faces: usize,
     /// Vertices merged into another vertex by welding.
     pub welded_vertices: usize,
+    /// Vertices left unwelded because welding them would have pinched the surface into a
+    /// non-manifold vertex or edge (e.g. coincident corners of two scan holes).
+    pub refused_welds: usize,
     /// Faces dropped as degenerate (after welding).
     pub degenerate_faces: usize,
     /// Faces dropped as duplicates of an earlier face.
@@ -308,6 +318,60 @@ fn orient(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> (Vec<bool>, usize) {
     (flip, unorientable)
 }
 
+/// Undoes every weld whose merged vertex would be non-manifold (or lie on a non-manifold edge)
+/// while none of its source vertices was: welding is meant to zip a triangle soup, not to pinch
+/// a surface where two of its vertices happen to coincide. Returns how many vertices were left
+/// unwelded. One pass suffices: undoing a weld restores the input's connectivity there.
+fn refuse_pinching_welds(mesh: &TriMesh, rep: &mut [u32]) -> usize {
+    let n = rep.len();
+    let mut cluster_size = vec![0u32; n];
+    for &r in rep.iter() {
+        cluster_size[r as usize] += 1;
+    }
+    if cluster_size.iter().all(|&k| k <= 1) {
+        return 0;
+    }
+    let welded = TriMesh {
+        positions: mesh.positions.clone(),
+        faces: mesh
+            .faces
+            .iter()
+            .map(|f| f.map(|v| rep[v as usize]))
+            .filter(|g| g[0] != g[1] && g[1] != g[2] && g[2] != g[0])
+            .collect(),
+        ..Default::default()
+    };
+    let (Ok(after), Ok(before)) = (Topology::build(&welded), Topology::build(mesh)) else {
+        return 0;
+    };
+    let was_bad: std::collections::HashSet<u32> = before
+        .non_manifold_vertices()
+        .iter()
+        .map(|v| v.0)
+        .chain(before.non_manifold_edges().into_iter().flatten())
+        .collect();
+    let mut undo = vec![false; n];
+    let bad_now = after
+        .non_manifold_vertices()
+        .into_iter()
+        .map(|v| v.0)
+        .chain(after.non_manifold_edges().into_iter().flatten());
+    for r in bad_now {
+        if cluster_size[r as usize] > 1 && !was_bad.contains(&r) {
+            undo[r as usize] = true;
+        }
+    }
+    let mut refused = 0;
+    for v in 0..n {
+        let r = rep[v] as usize;
+        if undo[r] && r != v {
+            rep[v] = v as u32;
+            refused += 1;
+        }
+    }
+    refused
+}
+
 /// Cleans `mesh` as `opts` says, in this order: weld, drop degenerate faces, drop duplicate
 /// faces, orient, keep components, drop unreferenced vertices. Vertex attributes and face
 /// labels are carried along.
@@ -335,7 +399,10 @@ pub fn clean(
         ..Default::default()
     };
     let used = mesh.referenced_vertices();
-    let rep = weld(&mesh.positions, &used, tol);
+    let mut rep = weld(&mesh.positions, &used, tol);
+    if opts.weld_keeps_manifold {
+        report.refused_welds = refuse_pinching_welds(mesh, &mut rep);
+    }
     report.welded_vertices = (0..n).filter(|&v| used[v] && rep[v] != v as u32).count();
 
     // Faces that survive, with their source index.

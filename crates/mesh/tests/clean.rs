@@ -385,6 +385,8 @@ fn tolerance_welding_matches_brute_force_components() {
     let tol = 0.6;
     let opts = CleanOptions {
         weld_tolerance_mm: tol,
+        // Pure clustering is checked here; the random soup pinches everywhere.
+        weld_keeps_manifold: false,
         drop_degenerate: false,
         drop_duplicate_faces: false,
         orient: false,
@@ -426,4 +428,49 @@ fn tolerance_welding_matches_brute_force_components() {
             comp[a]
         );
     }
+}
+
+/// Two holes of a grid whose corners coincide (as in scans where a hole is cut right next to
+/// another): welding the coincident vertices would pinch the surface into a non-manifold
+/// vertex, so the weld is refused and counted, while a soup of the same grid still welds whole.
+#[test]
+fn welds_that_would_pinch_the_surface_are_refused() {
+    // Two 2×2-quad grids side by side touching at one corner point only, given as two separate
+    // vertices at the same position: a bowtie if welded.
+    // grid_patch spans [−1, 1]²; the right one is moved by (2, 2): corners meet at (1, 1).
+    let left = grid_patch(3, 3, 2.0, |_, _| 0.0);
+    let mut right = grid_patch(3, 3, 2.0, |_, _| 0.0);
+    for p in &mut right.positions {
+        p[0] += 2.0;
+        p[1] += 2.0;
+    }
+    let mut mesh = left.clone();
+    let off = mesh.positions.len() as u32;
+    mesh.positions.extend(&right.positions);
+    mesh.faces
+        .extend(right.faces.iter().map(|f| f.map(|v| v + off)));
+    let before = Topology::build(&mesh).unwrap();
+    assert!(before.non_manifold_vertices().is_empty());
+
+    let (out, report, _) = clean(&mesh, &CleanOptions::default()).unwrap();
+    assert_eq!(report.refused_welds, 1, "{report:?}");
+    assert_eq!(report.welded_vertices, 0, "{report:?}");
+    let topo = Topology::build(&out).unwrap();
+    assert!(topo.non_manifold_vertices().is_empty());
+    assert!(topo.non_manifold_edges().is_empty());
+    assert_eq!(out.positions.len(), mesh.positions.len());
+
+    // The same pinch at a weld tolerance, and a soup that must still weld back whole.
+    let (_, report, _) = clean(
+        &mesh,
+        &CleanOptions {
+            weld_tolerance_mm: 1e-3,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(report.refused_welds, 1);
+    let (welded, report, _) = clean(&soup(&left), &CleanOptions::default()).unwrap();
+    assert_eq!(report.refused_welds, 0);
+    assert_eq!(welded.positions.len(), left.positions.len());
 }
