@@ -362,10 +362,9 @@ fn refuse_pinching_welds(mesh: &TriMesh, rep: &mut [u32]) -> usize {
         }
     }
     let mut refused = 0;
-    for v in 0..n {
-        let r = rep[v] as usize;
-        if undo[r] && r != v {
-            rep[v] = v as u32;
+    for (v, r) in rep.iter_mut().enumerate() {
+        if undo[*r as usize] && *r as usize != v {
+            *r = v as u32;
             refused += 1;
         }
     }
