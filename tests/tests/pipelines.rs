@@ -140,6 +140,21 @@ fn every_bundled_pipeline_runs_and_its_report_describes_the_folder() {
             );
         }
         assert!(got.contains_key("timings.json"));
+        // report.html is self-contained: every picture inline, nothing fetched (the only
+        // URLs are SVG namespace names), one convergence plot and 7 pictures per piece.
+        let html = String::from_utf8(got["report.html"].clone()).unwrap();
+        let pieces = report["pieces"].as_array().unwrap().len();
+        assert_eq!(html.matches("<svg class=\"plot\"").count(), pieces);
+        assert_eq!(
+            html.matches("src=\"data:image/png;base64,").count(),
+            7 * pieces
+        );
+        assert_eq!(
+            html.matches("http").count(),
+            html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count(),
+            "report.html must not reference the network"
+        );
+        assert!(!html.contains("NaN") && !html.contains("inf"));
         // No temporary file is left behind.
         assert!(got.keys().all(|k| !k.ends_with(".tmp")), "{:?}", got.keys());
     }
