@@ -165,7 +165,7 @@ fn sheet(report: &Report, pictures: &[PiecePictures]) -> String {
             d.trim_end(),
             x0 + (hi[0] - lo[0]) / 2.0,
             (hi[1] - lo[1]) / 2.0,
-            ((hi[0] - lo[0]).min(hi[1] - lo[1]) / 8.0).clamp(8.0, 60.0),
+            ((hi[0] - lo[0]).min(hi[1] - lo[1]) / 12.0).clamp(6.0, 30.0),
             esc(&p.name)
         );
         x0 += hi[0] - lo[0] + SHEET_GAP_MM;
