@@ -27,7 +27,7 @@ pub struct Report {
     pub schema: u32,
     /// The pipeline name.
     pub pipeline: String,
-    /// The pipeline file as given and its SHA-256.
+    /// The pipeline file's name (no folder) and its SHA-256.
     pub toml: FileHash,
     /// Every input file (key, path as written in the TOML, SHA-256, size).
     pub inputs: Vec<InputHash>,

@@ -547,7 +547,11 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         schema: SCHEMA,
         pipeline: p.name().into(),
         toml: FileHash {
-            path: p.source.display().to_string(),
+            // The file name only: the report must not depend on where the run started.
+            path: p.source.file_name().map_or_else(
+                || p.source.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            ),
             sha256: sha256_hex(p.text.as_bytes()),
         },
         inputs: loaded.inputs,
