@@ -13,11 +13,16 @@ macro_rules! outln {
 }
 
 mod clean;
+mod dart;
 mod demo;
+mod export;
 mod flatten;
 mod info;
 mod process;
+mod trim;
+mod surface;
 mod run;
+mod remesh;
 mod util;
 
 use std::process::ExitCode;
@@ -40,13 +45,23 @@ enum Command {
     Clean(clean::CleanArgs),
     /// Run the main job on the embedded default: a generated dress form, written and analysed.
     Demo(demo::DemoArgs),
+    /// Write flattened pieces as cut patterns: SVG, DXF (AAMA), PNG/EXR maps, tiled PDF, GLB.
+    Export(export::ExportArgs),
     /// Flatten open pieces to a true-size 2D pattern (OBJ) and measure the distortion.
     Flatten(flatten::FlattenArgs),
     /// Make pieces flattenable (θ = 2π at every interior vertex) with the least-norm method.
     Process(process::ProcessArgs),
+    /// Cut a surface along lines drawn on it into named pieces, with the seam ledger.
+    Trim(trim::TrimArgs),
+    /// Make a triangulated surface patch spanning a wire-frame of 3D boundary curves (WIRE.toml).
+    Surface(surface::SurfaceArgs),
     /// Run pipeline recipes (TOML) end to end into output folders with a report; no
     /// argument runs the bundled wetsuit demo.
     Run(run::RunArgs),
+    /// Remesh a scan to a working edge length (and/or decimate it), fill small holes, report quality.
+    Remesh(remesh::RemeshArgs),
+    /// Cut darts into a piece (boundary to tip, opened; tip one vertex), or propose where.
+    Dart(dart::DartArgs),
 }
 
 fn main() -> ExitCode {
@@ -59,9 +74,14 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Clean(args) => clean::run(args),
         Command::Demo(args) => demo::run(args),
+        Command::Export(args) => export::run(args),
         Command::Flatten(args) => flatten::run(args),
         Command::Process(args) => process::run(args),
+        Command::Trim(args) => trim::run(args),
+        Command::Surface(args) => surface::run(args),
         Command::Run(args) => run::run(args),
+        Command::Remesh(args) => remesh::run(args),
+        Command::Dart(args) => dart::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

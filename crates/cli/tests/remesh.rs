@@ -1,0 +1,145 @@
+//! `flatcut remesh` end to end: a sphere with a small and a large hole comes back at the
+//! target edge length, the small hole filled, the report in JSON; bad input exits 1 with
+//! the element named.
+
+#![allow(clippy::unwrap_used)]
+
+use std::process::Command;
+
+use flatcut_mesh::shapes::icosphere;
+use flatcut_mesh::vec3::norm;
+
+fn flatcut() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_flatcut"))
+}
+
+/// An icosphere of radius 100 mm with the faces around two vertices removed: one small
+/// hole (one ring) and one large opening (faces within 40 mm of a second vertex).
+fn holed_sphere() -> flatcut_mesh::TriMesh {
+    let s = icosphere(100.0, 4);
+    let large = s.positions[3];
+    let faces = s
+        .faces
+        .iter()
+        .filter(|f| {
+            !f.contains(&0)
+                && !f.iter().any(|&v| {
+                    let p = s.positions[v as usize];
+                    norm(flatcut_mesh::vec3::sub(p, large)) < 40.0
+                })
+        })
+        .copied()
+        .collect();
+    flatcut_mesh::TriMesh {
+        positions: s.positions,
+        faces,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn remesh_fills_the_small_hole_and_reports_quality() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.obj");
+    flatcut_io::write_mesh(
+        &input,
+        &holed_sphere(),
+        &flatcut_io::WriteOptions::default(),
+    )
+    .unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let output = dir.path().join("out.obj");
+    let out = flatcut()
+        .args([
+            "remesh",
+            "--edge-mm",
+            "10",
+            "--fill-holes-mm",
+            "100",
+            "--json",
+        ])
+        .arg(&input)
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let q = &r["quality"];
+    assert_eq!(q["holes"].as_array().unwrap().len(), 2);
+    assert_eq!(q["holes_filled"], 1);
+    assert!(q["edges_within_half_to_1_5"].as_f64().unwrap() >= 0.99);
+    assert!(q["vertex_to_input"]["max_mm"].as_f64().unwrap() < 1e-9);
+    assert_eq!(
+        std::fs::read(&input).unwrap(),
+        before,
+        "the input must not change"
+    );
+    // The written mesh has exactly one boundary loop left: the large opening.
+    let info = flatcut()
+        .args(["info", "--json"])
+        .arg(&output)
+        .output()
+        .unwrap();
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert_eq!(info["boundary_loops"].as_array().unwrap().len(), 1);
+    assert_eq!(info["faces"], q["faces"]);
+
+    // Decimation first, then remesh; text output names the holes.
+    let out2 = dir.path().join("out2.obj");
+    let out = flatcut()
+        .args(["remesh", "--decimate-to", "1000", "--edge-mm", "12"])
+        .arg(&input)
+        .arg(&out2)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("decimated to"), "{text}");
+    assert!(text.contains("open"), "{text}");
+}
+
+#[test]
+fn remesh_refuses_bad_input_naming_the_element() {
+    let dir = tempfile::tempdir().unwrap();
+    let fin = dir.path().join("fin.obj");
+    std::fs::write(
+        &fin,
+        "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0.5 -1 0\nv 0.5 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    let out = flatcut()
+        .args(["remesh", "--edge-mm", "0.3"])
+        .arg(&fin)
+        .arg(dir.path().join("o.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("edge 0–1 is non-manifold"), "{err}");
+    assert!(err.contains("fin.obj"), "{err}");
+    // A target larger than the object.
+    let out = flatcut()
+        .args(["remesh", "--edge-mm", "100"])
+        .arg(&fin)
+        .arg(dir.path().join("o.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    // Neither --edge-mm nor --decimate-to.
+    let out = flatcut()
+        .arg("remesh")
+        .arg(&fin)
+        .arg(dir.path().join("o.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--edge-mm"));
+}
