@@ -19,10 +19,10 @@ mod export;
 mod flatten;
 mod info;
 mod process;
-mod trim;
-mod surface;
-mod run;
 mod remesh;
+mod run;
+mod surface;
+mod trim;
 mod util;
 
 use std::process::ExitCode;
