@@ -61,6 +61,14 @@ pub enum PipelineError {
         /// The mesh crate's error.
         source: Box<flatcut_mesh::MeshError>,
     },
+    /// Remeshing failed.
+    #[error("{}: [input].remesh: {source}", file.display())]
+    Remesh {
+        /// The pipeline file.
+        file: PathBuf,
+        /// The remesh crate's error.
+        source: Box<flatcut_remesh::RemeshError>,
+    },
     /// Flattenable processing refused or failed on a piece.
     #[error("piece {piece:?}: [process]: {source}")]
     Process {

@@ -18,7 +18,7 @@ use flatcut_mesh::{FaceLabels, SeamLedger, Topology, TriMesh, geometry};
 use rayon::prelude::*;
 
 use crate::html::{PiecePictures, report_html};
-use crate::pieces::{PieceMesh, split};
+use crate::pieces::{PieceMesh, cut, split};
 use crate::progress::Progress;
 use crate::render::{Frame, VIEWS, render_2d, render_3d};
 use crate::report::{
@@ -400,13 +400,36 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     bar.finish();
     stage_done(&mut timings, "clean", t);
 
+    let mesh = match &p.spec.input.get_ref().remesh {
+        Some(opts) => {
+            let t = Instant::now();
+            let bar = progress.stage("remesh", 0);
+            let r =
+                flatcut_remesh::remesh(&mesh, opts).map_err(|source| PipelineError::Remesh {
+                    file: p.source.clone(),
+                    source: Box::new(source),
+                })?;
+            bar.finish();
+            stage_done(&mut timings, "remesh", t);
+            r.mesh
+        }
+        None => mesh,
+    };
+
     let t = Instant::now();
     let bar = progress.stage("pieces", 0);
-    let topo = Topology::build(&mesh).map_err(|source| PipelineError::Clean {
-        file: p.source.clone(),
-        source: Box::new(source),
-    })?;
-    let (pieces, dropped) = split(p, &mesh, &topo, loaded.units.factor_to_mm())?;
+    let (pieces, dropped, seams) = if p.spec.cuts.is_empty() {
+        let topo = Topology::build(&mesh).map_err(|source| PipelineError::Clean {
+            file: p.source.clone(),
+            source: Box::new(source),
+        })?;
+        let (pieces, dropped) = split(p, &mesh, &topo, loaded.units.factor_to_mm())?;
+        let seams = SeamLedger::new(pieces.iter().map(|p| p.name.clone()).collect());
+        (pieces, dropped, seams)
+    } else {
+        let (pieces, seams, dropped) = cut(p, &mesh, loaded.units.factor_to_mm())?;
+        (pieces, dropped, seams)
+    };
     bar.finish();
     stage_done(&mut timings, "pieces", t);
 
@@ -475,7 +498,6 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         })?;
         files.insert(name, bytes);
     }
-    let seams = SeamLedger::new(pieces.iter().map(|p| p.name.clone()).collect());
     let mut seams_json = serde_json::to_string_pretty(&seams).unwrap_or_default();
     seams_json.push('\n');
     files.insert("seams.json".into(), seams_json.into_bytes());
