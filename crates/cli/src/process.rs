@@ -35,8 +35,10 @@ pub struct ProcessArgs {
     /// Laplacian of the least-square update: `cotan` or `uniform`.
     #[arg(long, default_value = "cotan", value_parser = parse_laplacian)]
     pub laplacian: Laplacian,
-    /// Target of the least-square update: `detail` (keeps the input's shape) or `zero`
-    /// (the paper's; shrinks). Default: detail in robust mode, zero in paper mode.
+    /// Target of the least-square update: `detail` (keeps the input's shape; in robust mode
+    /// also pulls the result back towards the input: least total displacement) or `zero`
+    /// (the paper's; shrinks; fewer iterations). Default: detail in robust mode, zero in
+    /// paper mode.
     #[arg(long, value_parser = parse_target)]
     pub target: Option<Target>,
     /// Iteration limit per piece (default 500 robust, 50 paper).

@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use flatcut_mesh::{FaceId, FaceLabels, Topology, TriMesh, VertexId, bvh::Bvh, vec3};
 use flatcut_trim::{
     CutLine, GeodesicOptions, GeodesicSolver, SurfacePoint, SurfacePointOptions, TrimError, embed,
-    surface_point,
+    split_along, surface_point,
 };
 use serde::{Deserialize, Serialize};
 
@@ -377,21 +377,6 @@ fn trim_mesh_error(e: TrimError) -> DartError {
     }
 }
 
-fn find(p: &mut [u32], mut x: u32) -> u32 {
-    while p[x as usize] != x {
-        p[x as usize] = p[p[x as usize] as usize];
-        x = p[x as usize];
-    }
-    x
-}
-
-fn union(p: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(p, a), find(p, b));
-    if ra != rb {
-        p[ra.max(rb) as usize] = ra.min(rb);
-    }
-}
-
 /// Embeds the darts, checks them against the boundary and each other, and opens the piece.
 fn open(piece: &TriMesh, darts: &[Resolved]) -> Result<Darted, DartError> {
     let lines: Vec<CutLine> = darts.iter().map(|d| d.line.clone()).collect();
@@ -450,19 +435,7 @@ fn open(piece: &TriMesh, darts: &[Resolved]) -> Result<Darted, DartError> {
         }
     }
     let nf = mesh.faces.len();
-    let mut cp: Vec<u32> = (0..3 * nf as u32).collect();
-    for h in 0..3 * nf as u32 {
-        let Some(t) = topo.twin(h) else { continue };
-        if t < h {
-            continue;
-        }
-        let (a, b) = (topo.from_vertex(h).0, topo.to_vertex(h).0);
-        if cut.contains(&(a.min(b), a.max(b))) {
-            continue;
-        }
-        union(&mut cp, h, Topology::next(t));
-        union(&mut cp, Topology::next(h), t);
-    }
+    let wedges = split_along(nf, &topo, |a, b| cut.contains(&(a.min(b), a.max(b))));
     // The first wedge of a vertex (lowest corner) keeps its index; others are appended.
     let mut positions = mesh.positions.clone();
     let mut vertex_source = emb.vertex_source.clone();
@@ -472,7 +445,7 @@ fn open(piece: &TriMesh, darts: &[Resolved]) -> Result<Darted, DartError> {
     let mut corner_vertex = vec![0u32; 3 * nf];
     for c in 0..3 * nf as u32 {
         let v = mesh.faces[(c / 3) as usize][(c % 3) as usize];
-        let r = find(&mut cp, c);
+        let r = wedges.corner_vertex[c as usize];
         let nv = *vertex_of_root.entry(r).or_insert_with(|| {
             if has_first[v as usize] {
                 positions.push(mesh.positions[v as usize]);

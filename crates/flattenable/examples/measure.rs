@@ -1,8 +1,9 @@
 //! Measurements behind docs/algorithms/flattenable.md: `cargo run --release -p
 //! flatcut_flattenable --example measure -- table` (or probe with env N = grid size,
-//! W = cap|saddle, PAPER/LS/TAN to add variants; probe_weights; probe_targets).
+//! W = cap|saddle, TARGET=zero, PAPER/LS/TAN to add variants; probe_weights; probe_targets
+//! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA).
 
-#![allow(clippy::unwrap_used)]
+#![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -73,10 +74,17 @@ fn probe() {
                 },
             );
         }
+        let target = match std::env::var("TARGET").as_deref() {
+            Ok("zero") => Target::Zero,
+            _ => Target::Detail,
+        };
         show(
-            &format!("{name} robust direct"),
+            &format!("{name} robust direct {target:?}"),
             m,
-            &ProcessOptions::default(),
+            &ProcessOptions {
+                target,
+                ..Default::default()
+            },
         );
         if std::env::var("LS").is_ok() {
             show(
@@ -160,19 +168,30 @@ fn probe_targets() {
         ("cap50".into(), common::sphere_cap(50)),
         ("saddle12".into(), common::saddle(12)),
         ("saddle25".into(), common::saddle(25)),
+        ("cap100".into(), common::sphere_cap(100)),
+        ("saddle50".into(), common::saddle(50)),
+        ("saddle100".into(), common::saddle(100)),
     ];
+    let only = std::env::var("ONLY").ok();
     for (name, m) in &cases {
+        if only
+            .as_ref()
+            .is_some_and(|o| !o.split(',').any(|x| x == name))
+        {
+            continue;
+        }
         for (mode, base) in [
             (
-                "robust",
+                "robust LS",
                 ProcessOptions {
                     update: Update::LeastSquare,
                     ..Default::default()
                 },
             ),
-            ("paper", ProcessOptions::paper(Update::LeastSquare)),
+            ("robust direct", ProcessOptions::default()),
+            ("paper LS", ProcessOptions::paper(Update::LeastSquare)),
         ] {
-            if mode == "paper" && m.vertex_count() > 700 {
+            if mode.starts_with("paper") && m.vertex_count() > 700 {
                 continue;
             }
             for target in [Target::Zero, Target::Detail] {
@@ -260,6 +279,11 @@ fn table() {
                 row(&name, "paper LS uniform", &m, &uni);
             }
             row(&name, "robust (default)", &m, &ProcessOptions::default());
+            let zero = ProcessOptions {
+                target: Target::Zero,
+                ..Default::default()
+            };
+            row(&name, "robust, zero target", &m, &zero);
             if n <= 50 {
                 row(&name, "robust, isotropic metric", &m, &iso);
             }
@@ -267,7 +291,170 @@ fn table() {
     }
 }
 
-/// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets]`
+/// The real-disk table: FLATCUT_DATA meshes, default options (env TARGET=zero for the zero
+/// target, ONLY=a,b to restrict).
+fn real() {
+    let dir = std::env::var("FLATCUT_DATA").expect("set FLATCUT_DATA");
+    let target = match std::env::var("TARGET").as_deref() {
+        Ok("zero") => Target::Zero,
+        _ => Target::Detail,
+    };
+    let only = std::env::var("ONLY").ok();
+    for name in [
+        "igl_snail",
+        "smpl_hand_lowres",
+        "igl_camel_b",
+        "igl_inspired_mesh",
+        "igl_lilium",
+        "bust_demosthenes",
+        "igl_lion",
+        "igl_camelhead",
+        "mountain_disk",
+        "igl_face",
+    ] {
+        if only
+            .as_ref()
+            .is_some_and(|o| !o.split(',').any(|x| x == name))
+        {
+            continue;
+        }
+        let path = std::path::Path::new(&dir).join(format!("{name}.obj"));
+        let mesh = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
+            .unwrap()
+            .mesh;
+        let opts = ProcessOptions {
+            target,
+            ..Default::default()
+        };
+        let t = std::time::Instant::now();
+        let (r, ok) = match process(&mesh, &opts) {
+            Ok(r) => (r, "yes"),
+            Err(FlattenableError::NotConverged { partial, .. }) => (*partial, "no"),
+            Err(e) => {
+                println!("| {name} | error: {e} |");
+                continue;
+            }
+        };
+        let p = &r.report.pieces[0];
+        println!(
+            "| {name} | {} | {} | {:+.3} | {ok} | {} | {:.2e} | {:.2e} | {:.1} | {:+.2} | {:.4} | {} | {:.1} | {} |",
+            p.faces,
+            p.interior_vertices,
+            p.input_total_defect_rad,
+            p.iterations,
+            p.theta_err[0],
+            p.final_theta_err,
+            p.min_angle_deg,
+            p.area_change_percent,
+            p.max_displacement_mm,
+            p.folded_faces,
+            t.elapsed().as_secs_f64(),
+            p.stop_reason
+        );
+    }
+}
+
+/// A piece cut from a body: the faces whose centroid passes `keep`, largest connected part.
+fn cut(mesh: &flatcut_mesh::TriMesh, keep: impl Fn([f64; 3]) -> bool) -> flatcut_mesh::TriMesh {
+    let faces: Vec<u32> = (0..mesh.face_count() as u32)
+        .filter(|&f| {
+            let t = mesh.faces[f as usize];
+            let c = (0..3).fold([0.0; 3], |mut c, k| {
+                for d in 0..3 {
+                    c[d] += mesh.positions[t[k] as usize][d] / 3.0;
+                }
+                c
+            });
+            keep(c)
+        })
+        .collect();
+    let (sub, _) = flatcut_mesh::submesh(mesh, &faces);
+    let topo = flatcut_mesh::Topology::build(&sub).unwrap();
+    let comp = topo.face_components();
+    let mut count = vec![0usize; topo.component_count()];
+    for &c in comp {
+        count[c as usize] += 1;
+    }
+    let big = (0..count.len()).max_by_key(|&c| count[c]).unwrap();
+    let keep_faces: Vec<u32> = (0..sub.face_count() as u32)
+        .filter(|&f| comp[f as usize] as usize == big)
+        .collect();
+    flatcut_mesh::submesh(&sub, &keep_faces).0
+}
+
+/// Pieces cut from the MakeHuman body (decimetres, y up, +z front; MANIFEST landmarks):
+/// upper back, chest, left shoulder cap, left front thigh; on mh_body and on its 2×
+/// subdivision (BODY=mh_body_subdiv2).
+fn bodies() {
+    let dir = std::env::var("FLATCUT_DATA").expect("set FLATCUT_DATA");
+    let body = std::env::var("BODY").unwrap_or("mh_body".into());
+    let target = match std::env::var("TARGET").as_deref() {
+        Ok("zero") => Target::Zero,
+        _ => Target::Detail,
+    };
+    let path = std::path::Path::new(&dir).join(format!("{body}.obj"));
+    let mesh = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
+        .unwrap()
+        .mesh;
+    type Keep = Box<dyn Fn([f64; 3]) -> bool>;
+    let pieces: Vec<(&str, Keep)> = vec![
+        (
+            "upper back",
+            Box::new(|c: [f64; 3]| c[2] < 0.0 && (3.6..5.4).contains(&c[1]) && c[0].abs() < 1.3),
+        ),
+        (
+            "chest",
+            Box::new(|c: [f64; 3]| c[2] > 0.0 && (3.6..5.2).contains(&c[1]) && c[0].abs() < 1.4),
+        ),
+        (
+            "left shoulder",
+            Box::new(|c: [f64; 3]| {
+                let d = [c[0] - 1.68, c[1] - 5.25, c[2] - 0.15];
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < 0.9
+            }),
+        ),
+        (
+            "left front thigh",
+            Box::new(|c: [f64; 3]| c[2] > 0.1 && (-3.0..-0.9).contains(&c[1]) && c[0] > 0.3),
+        ),
+    ];
+    for (name, keep) in pieces {
+        let piece = cut(&mesh, keep);
+        let topo = flatcut_mesh::Topology::build(&piece).unwrap();
+        let loops = topo.boundary_loops().len();
+        let opts = ProcessOptions {
+            target,
+            ..Default::default()
+        };
+        let t = std::time::Instant::now();
+        let (r, ok) = match process(&piece, &opts) {
+            Ok(r) => (r, "yes"),
+            Err(FlattenableError::NotConverged { partial, .. }) => (*partial, "no"),
+            Err(e) => {
+                println!("| {body} {name} | error: {e} |");
+                continue;
+            }
+        };
+        let p = &r.report.pieces[0];
+        println!(
+            "| {body} {name} | {} | {} | {loops} | {:+.3} | {ok} | {} | {:.2e} | {:.2e} | {:.1} | {:+.2} | {:.4} | {:.4} | {} | {:.1} |",
+            p.faces,
+            p.interior_vertices,
+            p.input_total_defect_rad,
+            p.iterations,
+            p.theta_err[0],
+            p.final_theta_err,
+            p.min_angle_deg,
+            p.area_change_percent,
+            p.rms_displacement_mm,
+            p.max_displacement_mm,
+            p.folded_faces,
+            t.elapsed().as_secs_f64(),
+        );
+    }
+}
+
+/// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets|real|bodies]`
 /// prints the measurement tables of docs/algorithms/flattenable.md (a tool, not a test: it asserts
 /// nothing; the tests assert the numbers that must hold).
 fn main() {
@@ -276,8 +463,12 @@ fn main() {
         "probe_weights" => probe_weights(),
         "probe_targets" => probe_targets(),
         "table" => table(),
+        "real" => real(),
+        "bodies" => bodies(),
         other => {
-            eprintln!("unknown table '{other}': use table, probe, probe_weights or probe_targets");
+            eprintln!(
+                "unknown table '{other}': use table, probe, probe_weights, probe_targets, real or bodies"
+            );
             std::process::exit(2);
         }
     }

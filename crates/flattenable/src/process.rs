@@ -229,6 +229,11 @@ fn vertex_weights(mesh: &TriMesh, topo: &Topology, opts: &ProcessOptions) -> Vec
     w
 }
 
+/// Total angle defect (rad) above which a piece that does not converge is called cup-like
+/// in its error: π is half a hemisphere's Gaussian curvature; the 60° cap, which
+/// converges, carries about 1 rad.
+const LARGE_TOTAL_DEFECT_RAD: f64 = std::f64::consts::PI;
+
 type PieceOutcome = (Vec<[f64; 3]>, Vec<u32>, PieceReport);
 
 fn run_piece(
@@ -273,10 +278,22 @@ fn run_piece(
     };
     piece.measure(&positions, &mut report);
     if report.input_total_defect_rad < 0.0 && !report.converged {
-        report.messages.push(format!(
+        // Discrete Gauss–Bonnet: the interior's angle excess has to end up in the boundary
+        // angles; with the boundary fixed that needs wrinkles along it. Say so in the error
+        // (stop_reason is part of NotConverged's message), not only in the report.
+        let hint = format!(
             "the piece has a negative total angle defect ({:.3} rad, saddle-like): with its boundary fixed it can only become flat by wrinkling near the boundary; a dart or a different cut may be needed",
             report.input_total_defect_rad
-        ));
+        );
+        report.stop_reason = format!("{}; {hint}", report.stop_reason);
+        report.messages.push(hint);
+    } else if report.input_total_defect_rad > LARGE_TOTAL_DEFECT_RAD && !report.converged {
+        let hint = format!(
+            "the piece carries a total angle defect of {:.3} rad (a hemisphere carries 2π): a cup- or cap-like piece whose fixed boundary is short for its area can only become flat by crumpling; cut it into smaller pieces or add darts",
+            report.input_total_defect_rad
+        );
+        report.stop_reason = format!("{}; {hint}", report.stop_reason);
+        report.messages.push(hint);
     }
     report.seconds = start.elapsed().as_secs_f64();
     Ok((positions, piece.vertex_map, report))

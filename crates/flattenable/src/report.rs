@@ -46,6 +46,9 @@ pub struct PieceReport {
     pub min_angle_deg: f64,
     /// Trial steps rejected by the merit test or the fold guards (robust mode).
     pub rejected_steps: usize,
+    /// Pull-backs towards the input taken by `Target::Detail` (robust mode; counted in
+    /// `iterations`).
+    pub pull_backs: usize,
     /// Wall time of the piece (seconds).
     pub seconds: f64,
     /// Why the iteration stopped.

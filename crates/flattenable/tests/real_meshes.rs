@@ -23,6 +23,10 @@ fn data(name: &str) -> Option<PathBuf> {
 }
 
 fn check(name: &str, max_iterations: usize) {
+    check_with(name, max_iterations, false);
+}
+
+fn check_with(name: &str, max_iterations: usize, must_converge: bool) {
     let Some(path) = data(name) else {
         eprintln!("FLATCUT_DATA unset: skipping {name}");
         return;
@@ -45,6 +49,10 @@ fn check(name: &str, max_iterations: usize) {
             ..
         }) => {
             eprintln!("{name}: not converged, best θ_err {best_theta_err:.3e}");
+            assert!(
+                !must_converge,
+                "{name}: did not converge ({best_theta_err:.3e})"
+            );
             assert!(best_theta_err > 1e-9);
             let p = &partial.report.pieces[0];
             // Best by the merit ‖θ − 2π‖: its RMS is below the input's.
@@ -95,4 +103,12 @@ fn bust_demosthenes() {
 #[ignore = "8k vertices: run in release"]
 fn igl_lion() {
     check("igl_lion.obj", 500);
+}
+
+/// A disk-like relief (negative total defect −0.65 rad) that robust mode takes to 1e-9:
+/// measured 85 iterations, min angle 24.6°, area +1.15 % (docs/algorithms/flattenable.md).
+#[test]
+#[ignore = "2k vertices, ~85 iterations: run in release"]
+fn igl_inspired_mesh_converges() {
+    check_with("igl_inspired_mesh.obj", 500, true);
 }

@@ -93,35 +93,44 @@ fn saddle_12_and_25_converge_with_the_normal_metric() {
 }
 
 #[test]
-fn saddle_with_the_isotropic_metric_stops_cleanly_unfolded() {
-    // The paper's isotropic metric stalls on the saddle (measured: 8.7e-3 at 12×12): the
-    // error says how far it got and carries an unfolded best state.
+fn normal_metric_keeps_saddle_triangles_better_shaped_than_the_isotropic_one() {
+    // With the paper's isotropic metric the 12×12 saddle now converges too (it stalled at
+    // 9e-3 under the old damping rule), but by sliding vertices sideways: measured min corner
+    // 4.2° against 30° with the normal-preferring metric. Either run either converges flat
+    // and unfolded or stops with the clean error.
     let mesh = common::saddle(12);
-    let opts = ProcessOptions {
-        tangential_penalty: 1.0,
-        ..Default::default()
+    let min_angle = |tangential_penalty: f64| -> f64 {
+        let opts = ProcessOptions {
+            tangential_penalty,
+            ..Default::default()
+        };
+        let r = match process(&mesh, &opts) {
+            Ok(r) => {
+                assert_flat_unfolded(&mesh, &r);
+                r
+            }
+            Err(FlattenableError::NotConverged {
+                best_theta_err,
+                partial,
+                ..
+            }) => {
+                assert!(best_theta_err < partial.report.theta_err[0]);
+                assert_eq!(partial.report.folded_faces, 0);
+                assert!(
+                    partial
+                        .report
+                        .messages
+                        .iter()
+                        .any(|m| m.contains("negative total angle defect"))
+                );
+                *partial
+            }
+            Err(e) => panic!("{e}"),
+        };
+        r.report.pieces[0].min_angle_deg
     };
-    match process(&mesh, &opts) {
-        Err(FlattenableError::NotConverged {
-            best_theta_err,
-            partial,
-            ..
-        }) => {
-            assert!(best_theta_err > 1e-9 && best_theta_err < partial.report.theta_err[0]);
-            assert_eq!(partial.report.folded_faces, 0);
-            assert!(!partial.report.converged);
-            assert_eq!(partial.report.final_theta_err, best_theta_err);
-            assert!(
-                partial
-                    .report
-                    .messages
-                    .iter()
-                    .any(|m| m.contains("negative total angle defect"))
-            );
-        }
-        Ok(r) => assert_flat_unfolded(&mesh, &r),
-        Err(e) => panic!("{e}"),
-    }
+    let (iso, normal) = (min_angle(1.0), min_angle(10.0));
+    assert!(iso < normal, "isotropic {iso}° vs normal {normal}°");
 }
 
 #[test]
@@ -222,33 +231,42 @@ fn boundary_ring_weight_keeps_the_ring_closer() {
     assert!(moved(&g1) < moved(&plain));
 }
 
-/// The large grids (release only): what robust mode truly achieves today. Each run
-/// either converges or stops with `NotConverged` whose best state is unfolded and at least as
-/// good as measured (docs/algorithms/flattenable.md: cap 100×100 1.1e-5, saddle 50×50 7.0e-4,
-/// saddle 100×100 1.9e-4).
+/// The large grids (release only): robust mode converges on all three to 1e-9 with
+/// no fold (docs/algorithms/flattenable.md: cap 100×100 in ~130 iterations, saddle 50×50 in
+/// ~130, saddle 100×100 in ~290 after a long slow phase while the excess angle moves to the
+/// boundary).
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
-fn large_grids_converge_or_stop_cleanly_unfolded() {
-    for (mesh, measured) in [
-        (common::sphere_cap(100), 1.1e-5),
-        (common::saddle(50), 7.0e-4),
-        (common::saddle(100), 1.9e-4),
+fn large_grids_converge_without_folds() {
+    for mesh in [
+        common::sphere_cap(100),
+        common::saddle(50),
+        common::saddle(100),
     ] {
-        match process(&mesh, &ProcessOptions::default()) {
-            Ok(r) => assert_flat_unfolded(&mesh, &r),
-            Err(FlattenableError::NotConverged {
-                best_theta_err,
-                partial,
-                ..
-            }) => {
-                assert!(
-                    best_theta_err <= 1.05 * measured,
-                    "{best_theta_err} vs {measured}"
-                );
-                assert_eq!(partial.report.folded_faces, 0);
-                assert_eq!(common::boundary_changed(&mesh, &partial.mesh), 0);
-            }
-            Err(e) => panic!("{e}"),
-        }
+        let r = robust(&mesh, &ProcessOptions::default());
+        assert_flat_unfolded(&mesh, &r);
+    }
+}
+
+#[test]
+fn detail_target_moves_less_than_the_zero_target() {
+    // Target::Detail pulls the converged surface back towards the input along the
+    // constraint set (a stationary point of the paper's Eq. 1); the zero target ends where
+    // the memoryless least-norm steps end. Both flat and unfolded; the detail one closer to
+    // the input (measured: cap 0.0710 vs 0.0716, saddle 0.0267 vs 0.0280 RMS).
+    for mesh in [common::sphere_cap(25), common::saddle(25)] {
+        let rms = |target| {
+            let r = robust(
+                &mesh,
+                &ProcessOptions {
+                    target,
+                    ..Default::default()
+                },
+            );
+            assert_flat_unfolded(&mesh, &r);
+            r.report.rms_displacement_mm
+        };
+        let (detail, zero) = (rms(Target::Detail), rms(Target::Zero));
+        assert!(detail < zero, "detail {detail} vs zero {zero}");
     }
 }

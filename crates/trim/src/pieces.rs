@@ -61,10 +61,17 @@ pub struct PieceReport {
     pub disk: bool,
 }
 
-/// Result of splitting: piece of every embedded face, and the split vertex of every corner.
-pub(crate) struct Split {
+/// A mesh cut open along some of its edges (see [`split_along`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Split {
+    /// For each face, its piece: the face components across uncut edges, numbered in order of
+    /// their lowest face.
     pub face_piece: Vec<u32>,
+    /// Number of pieces.
     pub piece_count: usize,
+    /// For each corner `3·f + k` (vertex `k` of face `f`), its wedge: the corners around one
+    /// vertex joined across every uncut interior edge. Wedges are numbered in order of their
+    /// lowest corner; each becomes one vertex of the cut-open mesh.
     pub corner_vertex: Vec<u32>,
 }
 
@@ -94,7 +101,19 @@ pub(crate) fn cut_edges(emb: &Embedded) -> HashMap<(u32, u32), usize> {
 }
 
 pub(crate) fn split(emb: &Embedded, topo: &Topology, cut: &HashMap<(u32, u32), usize>) -> Split {
-    let nf = emb.mesh.faces.len();
+    split_along(emb.mesh.faces.len(), topo, |a, b| {
+        cut.contains_key(&(a.min(b), a.max(b)))
+    })
+}
+
+/// Cuts a mesh open along the edges `is_cut(a, b)` says (called with both orders of an
+/// interior edge's end vertices; boundary edges are open already): groups corners into wedges
+/// and faces into pieces by union–find across every uncut interior edge. Linear in the faces.
+/// Shared by cutting lines and darts, so both open a surface the same way.
+///
+/// `face_count` and `topo` are the mesh's (`Topology::build` of it).
+pub fn split_along(face_count: usize, topo: &Topology, is_cut: impl Fn(u32, u32) -> bool) -> Split {
+    let nf = face_count;
     let mut fp: Vec<u32> = (0..nf as u32).collect();
     let mut cp: Vec<u32> = (0..3 * nf as u32).collect();
     for h in 0..3 * nf as u32 {
@@ -103,7 +122,7 @@ pub(crate) fn split(emb: &Embedded, topo: &Topology, cut: &HashMap<(u32, u32), u
             continue;
         }
         let (a, b) = (topo.from_vertex(h).0, topo.to_vertex(h).0);
-        if cut.contains_key(&(a.min(b), a.max(b))) {
+        if is_cut(a, b) {
             continue;
         }
         union(&mut fp, h / 3, t / 3);
