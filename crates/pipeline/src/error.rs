@@ -85,6 +85,20 @@ pub enum PipelineError {
         /// The flattening error.
         source: Box<flatcut_lscm::LscmError>,
     },
+    /// The pattern stage refused a piece or an option.
+    #[error("[pattern]: {source}")]
+    Pattern {
+        /// The pattern crate's error.
+        source: Box<flatcut_pattern::PatternError>,
+    },
+    /// A writer refused its input or options.
+    #[error("cannot write {file}: {source}")]
+    Export {
+        /// The output file's name inside the folder.
+        file: String,
+        /// The export crate's error.
+        source: Box<flatcut_export::ExportError>,
+    },
     /// A mesh could not be encoded for output (a non-finite value would have reached a file).
     #[error("cannot encode {name}: {source}")]
     Encode {

@@ -9,6 +9,7 @@
 //! See docs/pipeline.md for the schema.
 
 mod error;
+pub mod export;
 pub mod html;
 pub mod output;
 pub mod pieces;

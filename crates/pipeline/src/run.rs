@@ -299,6 +299,10 @@ struct FlatPiece {
     uv: Vec<[f64; 2]>,
     /// E_h per face, for the distortion map.
     e_h: Vec<f64>,
+    /// E_r per face.
+    e_r: Vec<f64>,
+    /// Edge strain per face.
+    edge_strain: Vec<f64>,
     summary: FlattenSummary,
     seconds: f64,
 }
@@ -360,6 +364,8 @@ fn flatten_piece(
     };
     Ok(FlatPiece {
         e_h: d.per_face.iter().map(|f| f.e_h).collect(),
+        e_r: d.per_face.iter().map(|f| f.e_r).collect(),
+        edge_strain: d.per_face.iter().map(|f| f.edge_strain).collect(),
         uv,
         summary,
         seconds: start.elapsed().as_secs_f64(),
@@ -469,10 +475,12 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     let bar = progress.stage("outputs", 0);
     let mut files = BTreeMap::new();
     let mut warnings = Vec::new();
-    files.insert(
-        "processed.glb".to_string(),
-        processed_glb(&pieces, &processed, &flat)?,
-    );
+    if p.spec.export.wants(crate::export::ExportFormat::Glb) {
+        files.insert(
+            "processed.glb".to_string(),
+            processed_glb(&pieces, &processed, &flat)?,
+        );
+    }
     for (piece, (_, f)) in pieces.iter().zip(&flat) {
         let name = format!("pieces/{}.obj", piece.name);
         let pattern = TriMesh {
@@ -501,6 +509,36 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     let mut seams_json = serde_json::to_string_pretty(&seams).unwrap_or_default();
     seams_json.push('\n');
     files.insert("seams.json".into(), seams_json.into_bytes());
+    let inputs: Vec<flatcut_pattern::PieceInput> = pieces
+        .iter()
+        .zip(&processed)
+        .zip(&flat)
+        .map(|((piece, pr), (_, f))| {
+            let spec = piece.spec.map(|i| p.spec.pieces[i].get_ref());
+            flatcut_pattern::PieceInput {
+                name: piece.name.clone(),
+                mesh: pr.processed.mesh.clone(),
+                uv: f.uv.clone(),
+                meta: flatcut_pattern::PieceMeta {
+                    quantity: spec.map_or(1, |s| s.quantity),
+                    mirror: spec.is_some_and(|s| s.mirror),
+                    ..Default::default()
+                },
+                internal_lines: Vec::new(),
+                e_h: f.e_h.clone(),
+                e_r: f.e_r.clone(),
+                edge_strain: f.edge_strain.clone(),
+            }
+        })
+        .collect();
+    let exported = crate::export::export(
+        &inputs,
+        &seams,
+        &p.spec.pattern,
+        &p.spec.layout,
+        &p.spec.export,
+    )?;
+    files.extend(exported.files);
     let uv_by_name: BTreeMap<String, &[[f64; 2]]> = pieces
         .iter()
         .zip(&flat)

@@ -53,6 +53,15 @@ pub struct PipelineSpec {
     /// Flattening ([`flatcut_lscm::FlattenOptions`]).
     #[serde(default)]
     pub flatten: FlattenOptions,
+    /// Pattern pieces ([`flatcut_pattern::PatternOptions`]: seam allowance, notches, corners).
+    #[serde(default)]
+    pub pattern: flatcut_pattern::PatternOptions,
+    /// The sheet ([`flatcut_pattern::LayoutOptions`]).
+    #[serde(default)]
+    pub layout: flatcut_pattern::LayoutOptions,
+    /// Files to write ([`crate::export::ExportSpec`]).
+    #[serde(default)]
+    pub export: crate::export::ExportSpec,
 }
 
 /// `[input]`: a mesh file or a generated surface, then cleaning.
