@@ -140,6 +140,38 @@ fn every_bundled_pipeline_runs_and_its_report_describes_the_folder() {
             );
         }
         assert!(got.contains_key("timings.json"));
+        // report.html is self-contained: every picture inline, nothing fetched (the only
+        // URLs are SVG namespace names), one convergence plot and 7 pictures per piece.
+        let html = String::from_utf8(got["report.html"].clone()).unwrap();
+        let pieces = report["pieces"].as_array().unwrap().len();
+        assert_eq!(html.matches("<svg class=\"plot\"").count(), pieces);
+        assert_eq!(
+            html.matches("src=\"data:image/png;base64,").count(),
+            7 * pieces
+        );
+        assert_eq!(
+            html.matches("http").count(),
+            html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count(),
+            "report.html must not reference the network"
+        );
+        // No non-finite number in the text (the base64 pictures left out: they may hold any
+        // letters).
+        let text: String = html
+            .split("base64,")
+            .enumerate()
+            .map(|(i, part)| {
+                if i == 0 {
+                    part
+                } else {
+                    part.split_once('"').map_or("", |(_, rest)| rest)
+                }
+            })
+            .collect();
+        assert!(
+            !text.contains("NaN") && !text.contains("inf"),
+            "{}",
+            path.display()
+        );
         // No temporary file is left behind.
         assert!(got.keys().all(|k| !k.ends_with(".tmp")), "{:?}", got.keys());
     }
@@ -241,4 +273,42 @@ fn patch_demo_cap_becomes_developable_and_flattens_to_true_size() {
     // shorter than the circle.
     let circle = 2.0 * std::f64::consts::PI * 100.0;
     assert!(rim < circle && rim > 0.99 * circle, "{rim}");
+}
+
+#[test]
+fn wetsuit_demo_cuts_eight_flattenable_disks_whose_seams_match_in_2d() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run(
+        &pipelines_dir().join("wetsuit-demo.toml"),
+        &tmp.path().join("o"),
+        None,
+    );
+    let r = &out.report;
+    assert_eq!(r.pieces.len(), 8);
+    for p in &r.pieces {
+        // Disks, processed to the robust tolerance, flattened without stretch or folds.
+        assert_eq!(
+            (p.boundary_loops, p.euler_characteristic),
+            (1, 1),
+            "{}",
+            p.name
+        );
+        assert!(
+            p.process.converged && p.process.theta_err_after <= 1e-9,
+            "{p:?}"
+        );
+        assert!(p.flatten.max_edge_strain <= 1e-4, "{p:?}");
+        assert_eq!(p.flatten.flipped_faces, 0, "{}", p.name);
+    }
+    // Every seam is measured on both mates, which agree in 2D to 0.5 mm and with the 3D
+    // length (processing never moves the boundary; flattening keeps edge lengths).
+    assert!(r.seam_table.len() >= 8, "{}", r.seam_table.len());
+    for s in &r.seam_table {
+        assert!(!s.mismatch && s.difference_mm.abs() <= 0.5, "{s:?}");
+        assert!(
+            (s.a_2d_mm - s.length_3d_mm).abs() <= 1e-3 * s.length_3d_mm,
+            "{s:?}"
+        );
+    }
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
 }

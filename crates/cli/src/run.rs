@@ -164,6 +164,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
                         oc.seconds
                     );
                     piece_line(&mut o, r);
+                    if let Some(d) = &oc.out_dir {
+                        outln!(o, "  open {}", d.join("report.html").display());
+                    }
                     for w in &r.warnings {
                         outln!(o, "  warning: {w}");
                     }

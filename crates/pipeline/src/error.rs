@@ -61,6 +61,14 @@ pub enum PipelineError {
         /// The mesh crate's error.
         source: Box<flatcut_mesh::MeshError>,
     },
+    /// Remeshing failed.
+    #[error("{}: [input].remesh: {source}", file.display())]
+    Remesh {
+        /// The pipeline file.
+        file: PathBuf,
+        /// The remesh crate's error.
+        source: Box<flatcut_remesh::RemeshError>,
+    },
     /// Flattenable processing refused or failed on a piece.
     #[error("piece {piece:?}: [process]: {source}")]
     Process {
@@ -76,6 +84,20 @@ pub enum PipelineError {
         piece: String,
         /// The flattening error.
         source: Box<flatcut_lscm::LscmError>,
+    },
+    /// The pattern stage refused a piece or an option.
+    #[error("[pattern]: {source}")]
+    Pattern {
+        /// The pattern crate's error.
+        source: Box<flatcut_pattern::PatternError>,
+    },
+    /// A writer refused its input or options.
+    #[error("cannot write {file}: {source}")]
+    Export {
+        /// The output file's name inside the folder.
+        file: String,
+        /// The export crate's error.
+        source: Box<flatcut_export::ExportError>,
     },
     /// A mesh could not be encoded for output (a non-finite value would have reached a file).
     #[error("cannot encode {name}: {source}")]

@@ -9,11 +9,15 @@
 //! See docs/pipeline.md for the schema.
 
 mod error;
+pub mod export;
+pub mod html;
 pub mod output;
 pub mod pieces;
 pub mod progress;
+pub mod render;
 pub mod report;
 mod run;
+pub mod seams;
 pub mod spec;
 
 pub use error::PipelineError;

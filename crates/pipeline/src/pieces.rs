@@ -2,7 +2,7 @@
 //! (or `piece-0`, `piece-1`, … in order of first face when the file names none).
 
 use flatcut_mesh::bvh::Bvh;
-use flatcut_mesh::{Topology, TriMesh, submesh};
+use flatcut_mesh::{SeamLedger, Topology, TriMesh, submesh};
 
 use crate::spec::Pipeline;
 use crate::{PipelineError, SEED_TOLERANCE_MM};
@@ -16,16 +16,17 @@ pub struct PieceMesh {
     pub spec: Option<usize>,
     /// The piece (mm), vertices numbered by first use.
     pub mesh: TriMesh,
-    /// For each piece vertex, the vertex of the cleaned surface it came from.
+    /// For each piece vertex, the vertex of the cleaned surface it came from (empty for
+    /// pieces cut by lines, whose vertices may lie inside source faces).
     pub source_vertex: Vec<u32>,
     /// For each piece face, the face of the cleaned surface.
     pub source_face: Vec<u32>,
 }
 
-/// A component that no seed named, reported and left out.
+/// A component (or cut piece) that no seed named, reported and left out.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct DroppedComponent {
-    /// Component number (order of first face).
+    /// Component number (order of first face), or the cut piece's index in trim's report.
     pub component: usize,
     /// Its faces.
     pub faces: usize,
@@ -107,4 +108,81 @@ pub fn split(
         })
         .collect();
     Ok((pieces, dropped))
+}
+
+/// Cuts `mesh` (mm) along the file's `[[cut]]` lines into the `[[piece]]` pieces with
+/// crates/trim; returns the pieces, the seam ledger and the unnamed pieces trim dropped.
+pub fn cut(
+    p: &Pipeline,
+    mesh: &TriMesh,
+    units_to_mm: f64,
+) -> Result<(Vec<PieceMesh>, SeamLedger, Vec<DroppedComponent>), PipelineError> {
+    let mut cuts = flatcut_trim::Cuts {
+        units: None,
+        cuts: p.spec.cuts.iter().map(|c| c.get_ref().clone()).collect(),
+        pieces: p
+            .spec
+            .pieces
+            .iter()
+            .map(|ps| {
+                let ps = ps.get_ref();
+                flatcut_trim::PieceSpec {
+                    name: ps.name.get_ref().clone(),
+                    seed: *ps.seed.get_ref(),
+                }
+            })
+            .collect(),
+        options: p.spec.trim.clone(),
+    };
+    cuts.scale(units_to_mm);
+    let trimmed = flatcut_trim::trim(mesh, &cuts).map_err(|e| locate_trim_error(p, e))?;
+    let spec_of = |name: &str| {
+        p.spec
+            .pieces
+            .iter()
+            .position(|ps| ps.get_ref().name.get_ref() == name)
+    };
+    let pieces = trimmed
+        .pieces
+        .into_iter()
+        .map(|tp| PieceMesh {
+            spec: spec_of(&tp.name),
+            name: tp.name,
+            source_vertex: Vec::new(),
+            source_face: tp.face_source,
+            mesh: tp.mesh,
+        })
+        .collect();
+    let dropped = trimmed
+        .report
+        .pieces
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| !r.kept)
+        .map(|(i, r)| DroppedComponent {
+            component: i,
+            faces: r.faces,
+        })
+        .collect();
+    Ok((pieces, trimmed.ledger, dropped))
+}
+
+/// A trim error located at the `[[cut]]` or `[[piece]]` whose name it quotes (else the first
+/// `[[cut]]`).
+fn locate_trim_error(p: &Pipeline, e: flatcut_trim::TrimError) -> PipelineError {
+    let msg = e.to_string();
+    let quoted = |n: &str| msg.contains(&format!("{n:?}"));
+    let (span, key) = if let Some(c) = p.spec.cuts.iter().find(|c| quoted(&c.get_ref().name)) {
+        (c.span(), "cut")
+    } else if let Some(ps) = p
+        .spec
+        .pieces
+        .iter()
+        .find(|ps| quoted(ps.get_ref().name.get_ref()))
+    {
+        (ps.span(), "piece")
+    } else {
+        (p.spec.cuts.first().map_or(0..0, |c| c.span()), "cut")
+    };
+    p.invalid(span, key, msg)
 }

@@ -7,11 +7,11 @@
 use std::collections::BTreeMap;
 
 use flatcut_lscm::Summary;
-use flatcut_mesh::SeamLedger;
 use flatcut_mesh::clean::CleanReport;
 use serde::Serialize;
 
 use crate::pieces::DroppedComponent;
+use crate::seams::SeamRow;
 
 /// Significant digits of every number in report.json and timings.json: far more than any
 /// measurement here is worth (θ_err, strains, mm), few enough that a reader sees clean
@@ -27,7 +27,7 @@ pub struct Report {
     pub schema: u32,
     /// The pipeline name.
     pub pipeline: String,
-    /// The pipeline file as given and its SHA-256.
+    /// The pipeline file's name (no folder) and its SHA-256.
     pub toml: FileHash,
     /// Every input file (key, path as written in the TOML, SHA-256, size).
     pub inputs: Vec<InputHash>,
@@ -43,8 +43,8 @@ pub struct Report {
     pub dropped_components: Vec<DroppedComponent>,
     /// One entry per piece, in `[[piece]]` order (or component order).
     pub pieces: Vec<PieceReport>,
-    /// The seam ledger of the cut.
-    pub seams: SeamLedger,
+    /// Every seam of the ledger (seams.json) with its 3D length and both mates' 2D lengths.
+    pub seam_table: Vec<SeamRow>,
     /// Every file written (except report.json and timings.json), sorted, with its SHA-256.
     pub files: Vec<OutputFile>,
     /// Things worth reading: pieces that did not converge, folded flattenings, dropped

@@ -17,12 +17,15 @@ use flatcut_mesh::shapes::{self, dress_form};
 use flatcut_mesh::{FaceLabels, SeamLedger, Topology, TriMesh, geometry};
 use rayon::prelude::*;
 
-use crate::pieces::{PieceMesh, split};
+use crate::html::{PiecePictures, report_html};
+use crate::pieces::{PieceMesh, cut, split};
 use crate::progress::Progress;
+use crate::render::{Frame, VIEWS, render_2d, render_3d};
 use crate::report::{
     FileHash, FlattenSummary, InputHash, MeshCounts, OutputFile, PieceReport, ProcessSummary,
     Report, StageTime, Timings, sha256_hex, to_json,
 };
+use crate::seams::seam_table;
 use crate::spec::{Generator, Pipeline, SCHEMA};
 use crate::{PipelineError, output};
 
@@ -294,6 +297,12 @@ fn process_piece(p: &Pipeline, piece: &PieceMesh) -> Result<ProcessedPiece, Pipe
 /// Per piece: the placed pattern and its distortion.
 struct FlatPiece {
     uv: Vec<[f64; 2]>,
+    /// E_h per face, for the distortion map.
+    e_h: Vec<f64>,
+    /// E_r per face.
+    e_r: Vec<f64>,
+    /// Edge strain per face.
+    edge_strain: Vec<f64>,
     summary: FlattenSummary,
     seconds: f64,
 }
@@ -354,6 +363,9 @@ fn flatten_piece(
         size_mm: [hi[0] - lo[0], hi[1] - lo[1]],
     };
     Ok(FlatPiece {
+        e_h: d.per_face.iter().map(|f| f.e_h).collect(),
+        e_r: d.per_face.iter().map(|f| f.e_r).collect(),
+        edge_strain: d.per_face.iter().map(|f| f.edge_strain).collect(),
         uv,
         summary,
         seconds: start.elapsed().as_secs_f64(),
@@ -394,13 +406,36 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     bar.finish();
     stage_done(&mut timings, "clean", t);
 
+    let mesh = match &p.spec.input.get_ref().remesh {
+        Some(opts) => {
+            let t = Instant::now();
+            let bar = progress.stage("remesh", 0);
+            let r =
+                flatcut_remesh::remesh(&mesh, opts).map_err(|source| PipelineError::Remesh {
+                    file: p.source.clone(),
+                    source: Box::new(source),
+                })?;
+            bar.finish();
+            stage_done(&mut timings, "remesh", t);
+            r.mesh
+        }
+        None => mesh,
+    };
+
     let t = Instant::now();
     let bar = progress.stage("pieces", 0);
-    let topo = Topology::build(&mesh).map_err(|source| PipelineError::Clean {
-        file: p.source.clone(),
-        source: Box::new(source),
-    })?;
-    let (pieces, dropped) = split(p, &mesh, &topo, loaded.units.factor_to_mm())?;
+    let (pieces, dropped, seams) = if p.spec.cuts.is_empty() {
+        let topo = Topology::build(&mesh).map_err(|source| PipelineError::Clean {
+            file: p.source.clone(),
+            source: Box::new(source),
+        })?;
+        let (pieces, dropped) = split(p, &mesh, &topo, loaded.units.factor_to_mm())?;
+        let seams = SeamLedger::new(pieces.iter().map(|p| p.name.clone()).collect());
+        (pieces, dropped, seams)
+    } else {
+        let (pieces, seams, dropped) = cut(p, &mesh, loaded.units.factor_to_mm())?;
+        (pieces, dropped, seams)
+    };
     bar.finish();
     stage_done(&mut timings, "pieces", t);
 
@@ -440,10 +475,12 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     let bar = progress.stage("outputs", 0);
     let mut files = BTreeMap::new();
     let mut warnings = Vec::new();
-    files.insert(
-        "processed.glb".to_string(),
-        processed_glb(&pieces, &processed, &flat)?,
-    );
+    if p.spec.export.wants(crate::export::ExportFormat::Glb) {
+        files.insert(
+            "processed.glb".to_string(),
+            processed_glb(&pieces, &processed, &flat)?,
+        );
+    }
     for (piece, (_, f)) in pieces.iter().zip(&flat) {
         let name = format!("pieces/{}.obj", piece.name);
         let pattern = TriMesh {
@@ -469,10 +506,50 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         })?;
         files.insert(name, bytes);
     }
-    let seams = SeamLedger::new(pieces.iter().map(|p| p.name.clone()).collect());
     let mut seams_json = serde_json::to_string_pretty(&seams).unwrap_or_default();
     seams_json.push('\n');
     files.insert("seams.json".into(), seams_json.into_bytes());
+    let inputs: Vec<flatcut_pattern::PieceInput> = pieces
+        .iter()
+        .zip(&processed)
+        .zip(&flat)
+        .map(|((piece, pr), (_, f))| {
+            let spec = piece.spec.map(|i| p.spec.pieces[i].get_ref());
+            flatcut_pattern::PieceInput {
+                name: piece.name.clone(),
+                mesh: pr.processed.mesh.clone(),
+                uv: f.uv.clone(),
+                meta: flatcut_pattern::PieceMeta {
+                    quantity: spec.map_or(1, |s| s.quantity),
+                    mirror: spec.is_some_and(|s| s.mirror),
+                    ..Default::default()
+                },
+                internal_lines: Vec::new(),
+                e_h: f.e_h.clone(),
+                e_r: f.e_r.clone(),
+                edge_strain: f.edge_strain.clone(),
+            }
+        })
+        .collect();
+    let exported = crate::export::export(
+        &inputs,
+        &seams,
+        &p.spec.pattern,
+        &p.spec.layout,
+        &p.spec.export,
+    )?;
+    files.extend(exported.files);
+    let uv_by_name: BTreeMap<String, &[[f64; 2]]> = pieces
+        .iter()
+        .zip(&flat)
+        .map(|(piece, (_, f))| (piece.name.clone(), f.uv.as_slice()))
+        .collect();
+    let (seam_table, skipped) = seam_table(&seams, &uv_by_name);
+    for id in skipped {
+        warnings.push(format!(
+            "seam {id:?}: its pieces were not both flattened or its vertex chains do not fit them; left out of the seam table"
+        ));
+    }
 
     let mut piece_reports = Vec::with_capacity(pieces.len());
     for ((piece, pr), (ftopo, f)) in pieces.iter().zip(&processed).zip(&flat) {
@@ -525,12 +602,16 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
             d.component, d.faces
         ));
     }
-    let report = Report {
+    let mut report = Report {
         flatcut_version: env!("CARGO_PKG_VERSION").into(),
         schema: SCHEMA,
         pipeline: p.name().into(),
         toml: FileHash {
-            path: p.source.display().to_string(),
+            // The file name only: the report must not depend on where the run started.
+            path: p.source.file_name().map_or_else(
+                || p.source.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            ),
             sha256: sha256_hex(p.text.as_bytes()),
         },
         inputs: loaded.inputs,
@@ -543,17 +624,26 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         clean: clean_report,
         dropped_components: dropped,
         pieces: piece_reports,
-        seams,
-        files: files
-            .iter()
-            .map(|(name, bytes)| OutputFile {
-                name: name.clone(),
-                bytes: bytes.len(),
-                sha256: sha256_hex(bytes),
-            })
-            .collect(),
+        seam_table,
+        files: Vec::new(),
         warnings,
     };
+    let pictures: Vec<PiecePictures> = pieces
+        .par_iter()
+        .zip(&processed)
+        .zip(&flat)
+        .map(|((piece, pr), (topo, f))| pictures(piece, &pr.processed.mesh, topo, f))
+        .collect();
+    let html = report_html(&report, &pictures, p.spec.process.tolerance_rad);
+    files.insert("report.html".into(), html.into_bytes());
+    report.files = files
+        .iter()
+        .map(|(name, bytes)| OutputFile {
+            name: name.clone(),
+            bytes: bytes.len(),
+            sha256: sha256_hex(bytes),
+        })
+        .collect();
     bar.finish();
     stage_done(&mut timings, "outputs", t);
     timings.total_seconds = t0.elapsed().as_secs_f64();
@@ -562,6 +652,42 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         report,
         timings,
     })
+}
+
+/// |θ − 2π| per vertex (0 on the boundary).
+fn defect_field(mesh: &TriMesh, topo: &Topology) -> Vec<f64> {
+    geometry::angle_defects(&mesh.positions, &mesh.faces, topo)
+        .iter()
+        .map(|d| d.map_or(0.0, f64::abs))
+        .collect()
+}
+
+/// The report's pictures of one piece: before/after processing from the fixed views (framed
+/// alike, one colour scale) and the pattern coloured by E_h.
+fn pictures(piece: &PieceMesh, after: &TriMesh, topo: &Topology, f: &FlatPiece) -> PiecePictures {
+    let before_field = defect_field(&piece.mesh, topo);
+    let after_field = defect_field(after, topo);
+    let defect_max = before_field.iter().copied().fold(0.0, f64::max);
+    let mut before = Vec::new();
+    let mut after_png = Vec::new();
+    for v in &VIEWS {
+        let frame = Frame::fit(&piece.mesh.positions, v);
+        before.push(render_3d(&piece.mesh, &before_field, defect_max, v, &frame));
+        after_png.push(render_3d(after, &after_field, defect_max, v, &frame));
+    }
+    let e_h_max = f.e_h.iter().copied().fold(0.0, f64::max);
+    PiecePictures {
+        before,
+        after: after_png,
+        defect_max,
+        distortion: render_2d(&after.faces, &f.uv, &f.e_h, e_h_max),
+        e_h_max,
+        outline: topo
+            .boundary_loops()
+            .iter()
+            .map(|lp| lp.iter().map(|v| f.uv[v.idx()]).collect())
+            .collect(),
+    }
 }
 
 /// All processed pieces in one GLB (metres, as glTF fixes), one group per piece, vertices
@@ -580,11 +706,7 @@ fn processed_glb(
         all.positions.extend_from_slice(&m.positions);
         all.faces
             .extend(m.faces.iter().map(|f| f.map(|v| v + base)));
-        scalar.extend(
-            geometry::angle_defects(&m.positions, &m.faces, topo)
-                .iter()
-                .map(|d| d.map_or(0.0, f64::abs)),
-        );
+        scalar.extend(defect_field(m, topo));
         labels.names.push(piece.name.clone());
         labels
             .labels

@@ -37,15 +37,31 @@ pub struct PipelineSpec {
     pub output: Option<Spanned<PathBuf>>,
     /// The surface to cut.
     pub input: Spanned<InputSpec>,
+    /// Cutting lines (`[[cut]]`, [`flatcut_trim::CutSpec`]): points in `units`, joined by
+    /// geodesics on the surface; the surface is cut along them into pieces.
+    #[serde(default, rename = "cut")]
+    pub cuts: Vec<Spanned<flatcut_trim::CutSpec>>,
     /// Named pieces, each the piece that contains its seed point.
     #[serde(default, rename = "piece")]
     pub pieces: Vec<Spanned<PieceSpec>>,
+    /// Cutting options ([`flatcut_trim::TrimOptions`], `[trim]`).
+    #[serde(default)]
+    pub trim: flatcut_trim::TrimOptions,
     /// Flattenable processing ([`flatcut_flattenable::ProcessOptions`]).
     #[serde(default)]
     pub process: ProcessOptions,
     /// Flattening ([`flatcut_lscm::FlattenOptions`]).
     #[serde(default)]
     pub flatten: FlattenOptions,
+    /// Pattern pieces ([`flatcut_pattern::PatternOptions`]: seam allowance, notches, corners).
+    #[serde(default)]
+    pub pattern: flatcut_pattern::PatternOptions,
+    /// The sheet ([`flatcut_pattern::LayoutOptions`]).
+    #[serde(default)]
+    pub layout: flatcut_pattern::LayoutOptions,
+    /// Files to write ([`crate::export::ExportSpec`]).
+    #[serde(default)]
+    pub export: crate::export::ExportSpec,
 }
 
 /// `[input]`: a mesh file or a generated surface, then cleaning.
@@ -62,6 +78,10 @@ pub struct InputSpec {
     /// degenerate and duplicate faces, orient, keep every component.
     #[serde(default)]
     pub clean: CleanOptions,
+    /// Isotropic remeshing to a working resolution after cleaning
+    /// ([`flatcut_remesh::RemeshOptions`], e.g. `{ target_edge_mm = 8.0 }`); default none.
+    #[serde(default)]
+    pub remesh: Option<flatcut_remesh::RemeshOptions>,
 }
 
 /// A generated input surface, chosen by `kind`.
