@@ -1,8 +1,10 @@
 //! EXR rasters (float32) of E_h and E_r over a piece, with the pixel size in mm recorded.
 //!
 //! Channels: `A` (1 inside the piece, 0 outside), `E_h`, `E_r` (0 outside). Row 0 is the top of
-//! the piece (largest y). Layer attributes: `pixelSizeMm` (f32, mm per pixel, square pixels)
-//! and `originXMm`, `originYMm` (f32: the pattern coordinates of the top-left pixel's corner).
+//! the piece (largest y). The layer attribute `pixelSizeMm` (f32, mm per pixel, square pixels)
+//! gives the scale; the data window's position (column c, row r) places the top-left pixel's
+//! corner at pattern coordinates (c · pixelSizeMm, −r · pixelSizeMm) mm. The bytes depend only on
+//! the piece and the options (one custom attribute, sequential compression).
 
 use std::collections::HashMap;
 
@@ -34,8 +36,11 @@ pub struct Raster {
     pub width: usize,
     /// Height (pixels).
     pub height: usize,
-    /// Pattern coordinates (mm) of the top-left corner of pixel (0, 0).
+    /// Pattern coordinates (mm) of the top-left corner of pixel (0, 0): a whole number of
+    /// pixels from the pattern origin (x = column · pixel, y = −row · pixel).
     pub origin_mm: [f64; 2],
+    /// The global pixel (column, row) of pixel (0, 0): `origin_mm / pixel_mm` with y negated.
+    pub origin_px: [i32; 2],
     /// Coverage.
     pub alpha: Vec<f32>,
     /// E_h per pixel.
@@ -63,10 +68,22 @@ pub fn raster(piece: &PatternPiece, opts: &ExrOptions) -> Result<Raster, ExportE
         });
     }
     let b = bbox(&piece.sew_line);
+    // The raster sits on the global grid of pixel_mm squares (column i covers x ∈ [i·px,
+    // (i+1)·px], row j covers y ∈ [−(j+1)·px, −j·px]): its origin is a whole pixel, written as
+    // the EXR data-window position, so no further custom attribute is needed (custom ones sit
+    // in a HashMap inside the exr crate and would come out in a different order every run).
+    let (col0, row0) = ((b[0][0] / px).floor(), (-b[1][1] / px).floor());
     let (w, h) = (
-        ((b[1][0] - b[0][0]) / px).ceil().max(1.0),
-        ((b[1][1] - b[0][1]) / px).ceil().max(1.0),
+        ((b[1][0] / px).ceil() - col0).max(1.0),
+        ((-b[0][1] / px).ceil() - row0).max(1.0),
     );
+    if col0.abs() > i32::MAX as f64 / 2.0 || row0.abs() > i32::MAX as f64 / 2.0 {
+        return Err(ExportError::TooLarge {
+            width: w as u64,
+            height: h as u64,
+            limit: MAX_SIDE_PX,
+        });
+    }
     if w > MAX_SIDE_PX as f64 || h > MAX_SIDE_PX as f64 {
         return Err(ExportError::TooLarge {
             width: w as u64,
@@ -75,11 +92,12 @@ pub fn raster(piece: &PatternPiece, opts: &ExrOptions) -> Result<Raster, ExportE
         });
     }
     let (w, h) = (w as usize, h as usize);
-    let origin = [b[0][0], b[1][1]];
+    let origin = [col0 * px, -row0 * px];
     let mut r = Raster {
         width: w,
         height: h,
         origin_mm: origin,
+        origin_px: [col0 as i32, row0 as i32],
         alpha: vec![0.0; w * h],
         e_h: vec![0.0; w * h],
         e_r: vec![0.0; w * h],
@@ -129,20 +147,12 @@ pub fn piece_exr(piece: &PatternPiece, opts: &ExrOptions) -> Result<Vec<u8>, Exp
     let channels =
         AnyChannels::sort(vec![ch("A", r.alpha), ch("E_h", r.e_h), ch("E_r", r.e_r)].into());
     let mut attrs = LayerAttributes::named(crate::text::ascii7(&piece.name).as_str());
-    let mut other = HashMap::new();
-    other.insert(
+    // One custom attribute only (see `raster`): the origin is the data-window position.
+    attrs.other = HashMap::from([(
         Text::from("pixelSizeMm"),
         AttributeValue::F32(opts.pixel_mm as f32),
-    );
-    other.insert(
-        Text::from("originXMm"),
-        AttributeValue::F32(r.origin_mm[0] as f32),
-    );
-    other.insert(
-        Text::from("originYMm"),
-        AttributeValue::F32(r.origin_mm[1] as f32),
-    );
-    attrs.other = other;
+    )]);
+    attrs.layer_position = exr::math::Vec2(r.origin_px[0], r.origin_px[1]);
     let layer = Layer::new(
         (r.width, r.height),
         attrs,
@@ -153,6 +163,8 @@ pub fn piece_exr(piece: &PatternPiece, opts: &ExrOptions) -> Result<Vec<u8>, Exp
     let mut out = std::io::Cursor::new(Vec::new());
     image
         .write()
+        // Sequential: parallel compression may emit chunks in any order.
+        .non_parallel()
         .to_buffered(&mut out)
         .map_err(|e| ExportError::Exr(e.to_string()))?;
     Ok(out.into_inner())

@@ -232,6 +232,7 @@ fn exr_has_float_channels_and_pixel_size() {
     use exr::prelude::ReadLayers as _;
     let (pieces, _) = sample();
     let bytes = piece_exr(&pieces[1], &ExrOptions { pixel_mm: 2.0 }).unwrap();
+    let bytes_again = bytes.clone();
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -249,6 +250,25 @@ fn exr_has_float_channels_and_pixel_size() {
         .get(&exr::meta::attribute::Text::from("pixelSizeMm"))
         .unwrap();
     assert!(matches!(px, exr::meta::attribute::AttributeValue::F32(v) if *v == 2.0));
+    // The origin is the data-window position on the global 2 mm grid.
+    let bb = flatcut_pattern::geom::bbox(&pieces[1].sew_line);
+    assert_eq!(
+        (
+            layer.attributes.layer_position.0,
+            layer.attributes.layer_position.1
+        ),
+        (
+            (bb[0][0] / 2.0).floor() as i32,
+            (-bb[1][1] / 2.0).floor() as i32
+        )
+    );
+    // Same piece, same options: the same bytes (no HashMap order, no parallel chunk order).
+    for _ in 0..3 {
+        assert_eq!(
+            piece_exr(&pieces[1], &ExrOptions { pixel_mm: 2.0 }).unwrap(),
+            bytes_again
+        );
+    }
     let names: Vec<String> = layer
         .channel_data
         .list
