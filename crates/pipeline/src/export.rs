@@ -38,7 +38,7 @@ pub enum ExportFormat {
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ExportSpec {
-    /// Formats to write (default svg, png, dxf, pdf, glb; exr only when asked, see `Default`).
+    /// Formats to write (default: all of svg, png, exr, dxf, pdf, glb).
     pub formats: Vec<ExportFormat>,
     /// [`flatcut_export::SvgOptions`].
     pub svg: SvgOptions,
@@ -55,12 +55,12 @@ pub struct ExportSpec {
 impl Default for ExportSpec {
     fn default() -> Self {
         Self {
-            // Not EXR by default: the exr crate's file is not byte-identical from run to run
-            // (measured: the same piece gave different .exr bytes), and a run must be
-            // reproducible. Ask for it explicitly (`formats = [..., "exr"]`).
+            // Every format; the EXR writer is byte-identical from run to run (see
+            // flatcut_export::piece_exr), like the others.
             formats: vec![
                 ExportFormat::Svg,
                 ExportFormat::Png,
+                ExportFormat::Exr,
                 ExportFormat::Dxf,
                 ExportFormat::Pdf,
                 ExportFormat::Glb,
