@@ -109,28 +109,6 @@ fn formats(s: &str) -> anyhow::Result<BTreeSet<&'static str>> {
     Ok(out)
 }
 
-/// Writes bytes atomically (temporary file beside it, then a rename).
-fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .with_context(|| format!("{} is not a file path", path.display()))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| {
-        let _ = std::fs::remove_file(&tmp);
-        format!(
-            "cannot move {} into place as {}",
-            tmp.display(),
-            path.display()
-        )
-    })
-}
-
 fn stem(path: &Path) -> String {
     path.file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -405,7 +383,7 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let mut written = Vec::new();
     for (path, bytes) in &files {
-        write_atomic(path, bytes)?;
+        crate::util::write_bytes_atomic(path, bytes)?;
         written.push(path.display().to_string());
     }
     if fmts.contains("glb") {

@@ -19,6 +19,12 @@ pub fn parse_units(s: &str) -> Result<Units, String> {
 /// Writes `text` to `path` atomically (a temporary file beside it, then a rename), so a
 /// reader never sees half a report.
 pub fn write_text_atomic(path: &Path, text: &str) -> anyhow::Result<()> {
+    write_bytes_atomic(path, text.as_bytes())
+}
+
+/// Writes bytes atomically: a temporary file beside `path`, then a rename, so that no reader
+/// (and no crash) ever leaves a half-written file under the final name.
+pub fn write_bytes_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -31,7 +37,7 @@ pub fn write_text_atomic(path: &Path, text: &str) -> anyhow::Result<()> {
         name.to_string_lossy(),
         std::process::id()
     ));
-    std::fs::write(&tmp, text).with_context(|| format!("cannot write {}", tmp.display()))?;
+    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
     std::fs::rename(&tmp, path).with_context(|| {
         let _ = std::fs::remove_file(&tmp);
         format!(
