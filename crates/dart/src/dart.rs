@@ -15,10 +15,10 @@
 
 use std::collections::HashMap;
 
-use flatcut_mesh::{FaceId, FaceLabels, Topology, TriMesh, VertexId, bvh::Bvh, vec3};
+use flatcut_mesh::{FaceLabels, Topology, TriMesh, VertexId, bvh::Bvh, vec3};
 use flatcut_trim::{
-    CutLine, GeodesicOptions, GeodesicSolver, SurfacePoint, SurfacePointOptions, TrimError, embed,
-    split_along, surface_point,
+    CutLine, GeodesicOptions, GeodesicSolver, SurfacePoint, SurfacePointOptions, TrimError,
+    closest_on_halfedges, embed, split_along, surface_point,
 };
 use serde::{Deserialize, Serialize};
 
@@ -151,39 +151,8 @@ pub(crate) fn closest_on_boundary(
     topo: &Topology,
     x: [f64; 3],
 ) -> Option<(f64, SurfacePoint)> {
-    let mut best: Option<(f64, SurfacePoint)> = None;
-    for h in 0..3 * mesh.faces.len() as u32 {
-        if topo.twin(h).is_some() {
-            continue;
-        }
-        let f = h / 3;
-        let k = (h % 3) as usize;
-        let face = mesh.faces[f as usize];
-        let (a, b) = (
-            mesh.positions[face[k] as usize],
-            mesh.positions[face[(k + 1) % 3] as usize],
-        );
-        let ab = vec3::sub(b, a);
-        let l2 = vec3::norm2(ab);
-        let s = if l2 > 0.0 {
-            (vec3::dot(vec3::sub(x, a), ab) / l2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let d = vec3::dist(x, vec3::add(a, vec3::scale(ab, s)));
-        if best.is_none_or(|(bd, _)| d < bd) {
-            let mut w = [0.0; 3];
-            w[k] = 1.0 - s;
-            w[(k + 1) % 3] = s;
-            let sp = SurfacePoint {
-                face: FaceId(f),
-                barycentric: w,
-            }
-            .snapped();
-            best = Some((d, sp));
-        }
-    }
-    best
+    let boundary = (0..3 * mesh.faces.len() as u32).filter(|&h| topo.twin(h).is_none());
+    closest_on_halfedges(mesh, boundary, x)
 }
 
 /// A dart resolved on the input piece: its line from start to tip.

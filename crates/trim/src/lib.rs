@@ -18,7 +18,7 @@ pub use cuts::{CutSpec, Cuts, PieceSpec, TrimOptions};
 pub use embed::{Embedded, embed};
 pub use error::TrimError;
 pub use geodesic::{Geodesic, GeodesicOptions, GeodesicSolver, geodesic};
-pub use lines::{CutLine, cut_lines};
+pub use lines::{CutLine, closest_on_halfedges, cut_lines};
 pub use pieces::{Piece, PieceReport, Split, split_along};
 pub use surface_point::{Location, SurfacePoint, SurfacePointOptions, surface_point};
 pub use wetsuit::dress_form_wetsuit;

@@ -84,30 +84,7 @@ impl<'a> LineContext<'a> {
 
     /// Closest point of the mesh boundary to `x`: (distance, surface point).
     fn closest_on_boundary(&self, x: [f64; 3]) -> Option<(f64, SurfacePoint)> {
-        let mut best: Option<(f64, SurfacePoint)> = None;
-        for &h in &self.boundary {
-            let f = h / 3;
-            let k = (h % 3) as usize;
-            let face = self.mesh.faces[f as usize];
-            let (a, b) = (
-                self.mesh.positions[face[k] as usize],
-                self.mesh.positions[face[(k + 1) % 3] as usize],
-            );
-            let s = segment_param(x, a, b);
-            let d = vec3::dist(x, vec3::add(a, vec3::scale(vec3::sub(b, a), s)));
-            if best.is_none_or(|(bd, _)| d < bd) {
-                let mut w = [0.0; 3];
-                w[k] = 1.0 - s;
-                w[(k + 1) % 3] = s;
-                let sp = SurfacePoint {
-                    face: FaceId(f),
-                    barycentric: w,
-                }
-                .snapped();
-                best = Some((d, sp));
-            }
-        }
-        best
+        closest_on_halfedges(self.mesh, self.boundary.iter().copied(), x)
     }
 
     /// Closest point of a line's polyline to `x`: (distance, surface point on the line).
@@ -170,6 +147,40 @@ pub fn bary_in(mesh: &TriMesh, p: SurfacePoint, f: u32) -> Option<[f64; 3]> {
 }
 
 /// Parameter in [0, 1] of the point of segment `a b` closest to `x`.
+/// Closest point to `x` on the edges `halfedges` (halfedge `3·f + k` runs from corner `k` to
+/// `k + 1` of face `f`), e.g. a mesh's boundary: (distance, surface point, snapped to a vertex
+/// when at one). `None` when there is no halfedge. Shared by cut-line end snapping and darts.
+pub fn closest_on_halfedges(
+    mesh: &TriMesh,
+    halfedges: impl IntoIterator<Item = u32>,
+    x: [f64; 3],
+) -> Option<(f64, SurfacePoint)> {
+    let mut best: Option<(f64, SurfacePoint)> = None;
+    for h in halfedges {
+        let f = h / 3;
+        let k = (h % 3) as usize;
+        let face = mesh.faces[f as usize];
+        let (a, b) = (
+            mesh.positions[face[k] as usize],
+            mesh.positions[face[(k + 1) % 3] as usize],
+        );
+        let s = segment_param(x, a, b);
+        let d = vec3::dist(x, vec3::add(a, vec3::scale(vec3::sub(b, a), s)));
+        if best.is_none_or(|(bd, _)| d < bd) {
+            let mut w = [0.0; 3];
+            w[k] = 1.0 - s;
+            w[(k + 1) % 3] = s;
+            let sp = SurfacePoint {
+                face: FaceId(f),
+                barycentric: w,
+            }
+            .snapped();
+            best = Some((d, sp));
+        }
+    }
+    best
+}
+
 fn segment_param(x: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     let d = vec3::sub(b, a);
     let l = vec3::norm2(d);
