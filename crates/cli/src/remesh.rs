@@ -26,6 +26,12 @@ pub struct RemeshArgs {
     /// Largest edge in mm when adapting to curvature (give --min-edge-mm too).
     #[arg(long)]
     pub max_edge_mm: Option<f64>,
+    /// Approximation-error bound in mm: where a face's centroid or an edge midpoint lies
+    /// farther from the input, the remesh refines locally (down to 0.625 × --edge-mm, or
+    /// --min-edge-mm); 0 turns it off. Scan noise finer than the triangles is not refined
+    /// (the report gives how much of the surface that is).
+    #[arg(long, default_value_t = 0.5)]
+    pub max_deviation_mm: f64,
     /// Decimate to at most this many faces first (quadric error metrics): the fast first
     /// step for a scan of a million triangles.
     #[arg(long)]
@@ -88,6 +94,7 @@ pub fn run(args: &RemeshArgs) -> anyhow::Result<()> {
             iterations: args.iterations,
             feature_angle_deg: args.feature_angle_deg,
             fill_holes_perimeter_mm: args.fill_holes_mm,
+            max_deviation_mm: args.max_deviation_mm,
             ..RemeshOptions::default()
         };
         let src = work.as_ref().map_or(input, |(m, _)| m);
@@ -95,7 +102,9 @@ pub fn run(args: &RemeshArgs) -> anyhow::Result<()> {
         let quality = if decimated_faces.is_some() {
             // Measure against the file's surface, not the decimated one.
             let filled: Vec<bool> = r.provenance.iter().map(|p| p.filled).collect();
-            let mut q = quality_report(&r.mesh, input, Some(edge), &filled);
+            let bound = (args.max_deviation_mm > 0.0).then_some(args.max_deviation_mm);
+            let mut q = quality_report(&r.mesh, input, Some(edge), bound, &filled);
+            q.rough_input_fraction = r.report.rough_input_fraction;
             q.holes = r.report.holes.clone();
             q.holes_filled = r.report.holes_filled;
             q
@@ -161,6 +170,15 @@ pub fn run(args: &RemeshArgs) -> anyhow::Result<()> {
             q.input_to_output.max_mm,
             q.rms_mm
         );
+        if q.max_deviation_mm > 0.0 {
+            outln!(
+                o,
+                "  deviation     {} vertices/centroids farther than {:.3} mm; {:.2} % of the input's area is noise too rough for that bound (not refined)",
+                q.samples_over_deviation,
+                q.max_deviation_mm,
+                100.0 * q.rough_input_fraction
+            );
+        }
         if q.components_kept_unchanged > 0 {
             outln!(
                 o,

@@ -296,7 +296,7 @@ pub fn decimate(mesh: &TriMesh, opts: &DecimateOptions) -> Result<Decimated, Rem
             },
         })
         .collect();
-    let report = quality_with_bvh(&out, mesh, &bvh, None, &[]);
+    let report = quality_with_bvh(&out, mesh, &bvh, None, None, &[]);
     Ok(Decimated {
         mesh: out,
         provenance,

@@ -18,4 +18,4 @@ pub use decimate::{DecimateOptions, Decimated, decimate};
 pub use error::RemeshError;
 pub use holes::{Hole, find_holes};
 pub use quality::{DistanceStats, QualityReport, quality_report};
-pub use remesh::{Provenance, RemeshOptions, Remeshed, remesh};
+pub use remesh::{Provenance, RemeshOptions, Remeshed, remesh, roughness};

@@ -67,6 +67,16 @@ pub struct QualityReport {
     pub centroid_to_input: DistanceStats,
     /// Input vertices to the output surface.
     pub input_to_output: DistanceStats,
+    /// The approximation-error bound the next two fields count against, mm (0: none).
+    pub max_deviation_mm: f64,
+    /// Output vertices and face centroids (outside filled holes) farther than
+    /// `max_deviation_mm` from the input surface.
+    pub samples_over_deviation: usize,
+    /// Fraction of the input's area (outside filled holes) too rough for the bound: scan
+    /// noise finer than the output's triangles, where remeshing does not refine and the
+    /// bound is not attainable at the target resolution (see docs/algorithms/remesh.md).
+    /// Set by `remesh`; 0 elsewhere.
+    pub rough_input_fraction: f64,
     /// Largest of the three maxima: the (sampled) Hausdorff distance, mm.
     pub hausdorff_mm: f64,
     /// RMS over the output samples (vertices and centroids), mm.
@@ -85,15 +95,24 @@ pub struct QualityReport {
 
 /// Quality of `output` against the surface `input`; `excluded[v]` marks output vertices in
 /// filled holes (left out of the distances, with the faces that touch them). `target_edge_mm`
-/// `None` measures edges against their mean.
+/// `None` measures edges against their mean; `max_deviation_mm` (if given) is the bound
+/// `samples_over_deviation` counts against.
 pub fn quality_report(
     output: &TriMesh,
     input: &TriMesh,
     target_edge_mm: Option<f64>,
+    max_deviation_mm: Option<f64>,
     excluded: &[bool],
 ) -> QualityReport {
     let bvh = Bvh::build(input);
-    quality_with_bvh(output, input, &bvh, target_edge_mm, excluded)
+    quality_with_bvh(
+        output,
+        input,
+        &bvh,
+        target_edge_mm,
+        max_deviation_mm,
+        excluded,
+    )
 }
 
 fn stats(d: &[f64]) -> DistanceStats {
@@ -114,6 +133,7 @@ pub(crate) fn quality_with_bvh(
     input: &TriMesh,
     input_bvh: &Bvh,
     target_edge_mm: Option<f64>,
+    max_deviation_mm: Option<f64>,
     excluded: &[bool],
 ) -> QualityReport {
     let pos = &output.positions;
@@ -222,6 +242,10 @@ pub(crate) fn quality_with_bvh(
                 .map(|c| c.distance)
         })
         .collect();
+    if let Some(b) = max_deviation_mm {
+        r.max_deviation_mm = b;
+        r.samples_over_deviation = dv.iter().chain(&dc).filter(|&&d| d > b).count();
+    }
     r.vertex_to_input = stats(&dv);
     r.centroid_to_input = stats(&dc);
     r.input_to_output = stats(&di);
