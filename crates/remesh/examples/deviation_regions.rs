@@ -96,6 +96,13 @@ fn main() {
         q.degenerate_faces,
         q.non_manifold_edges
     );
+    println!(
+        "samples over {} mm: {}; rough input area {:.2} %; input→output max {:.2} mm",
+        q.max_deviation_mm,
+        q.samples_over_deviation,
+        100.0 * q.rough_input_fraction,
+        q.input_to_output.max_mm
+    );
     let m = &r.mesh;
     // Distance of every output face to the nearest input boundary vertex (open or filled).
     let bverts: Vec<[f64; 3]> = st

@@ -513,6 +513,37 @@ fn mh_body_scanlike_at_8mm_meets_the_issue_numbers() {
     let t = Topology::build(m).unwrap();
     assert_eq!(t.boundary_loops().len(), 6 + 3);
     assert!(boundary_deviation(&input, m) <= 1e-9 * input.diagonal());
+    // The issue's centroid bound (every centroid within 0.5 mm) is NOT met on this scan and
+    // this test does not claim it: the scan's noise (≈ 2 mm at its own 6 mm spacing)
+    // puts 62 % of 8 mm centroids beyond 0.5 mm, 13 % still at a uniform 4 mm and 0.17 %
+    // at 2.5 mm (docs/algorithms/remesh.md). What holds: the bound is checked and
+    // reported, the input is recognised as noise rougher than the bound (so the remesh
+    // does not refine it into a million faces), and every centroid beyond the bound lies
+    // on such noise, none on smooth input.
+    assert_eq!(q.max_deviation_mm, 0.5);
+    assert!(q.rough_input_fraction > 0.99, "{}", q.rough_input_fraction);
+    let rough = flatcut_remesh::roughness(&input).unwrap();
+    let bvh = flatcut_mesh::bvh::Bvh::build(&input);
+    let mut over = 0;
+    for f in &m.faces {
+        if f.iter().any(|&v| out.provenance[v as usize].filled) {
+            continue;
+        }
+        let p = f.map(|v| m.positions[v as usize]);
+        let c = scale(add(add(p[0], p[1]), p[2]), 1.0 / 3.0);
+        let cp = bvh.closest_point(c).unwrap();
+        if cp.distance > 0.5 {
+            over += 1;
+            assert!(
+                input.faces[cp.face.idx()]
+                    .iter()
+                    .any(|&v| rough[v as usize] > 0.5),
+                "centroid {c:?} is {} mm off smooth input",
+                cp.distance
+            );
+        }
+    }
+    assert_eq!(over, q.samples_over_deviation);
 }
 
 #[test]
