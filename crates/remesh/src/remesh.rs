@@ -64,9 +64,6 @@ const ROUGHNESS_REL: f64 = 1.0;
 /// The refined sizing field may grow by at most this many mm per mm away from a refined
 /// spot: a gradual transition keeps the triangles there well shaped.
 const SIZING_GRADE: f64 = 0.5;
-/// Sizing-gradation sweeps over the working surface's edges (each sweep propagates far
-/// along the edge order; the transition zones are a few edges wide).
-const SIZING_GRADE_SWEEPS: usize = 30;
 /// Rounds before the first approximation-error check (the mesh must first be near the
 /// target) and rounds left after the last one (to split, relax and settle the refinement).
 const DEVIATION_FIRST_ROUND: usize = 2;
@@ -251,8 +248,10 @@ struct Work<'a> {
     sizing: Vec<f64>,
     /// Per input vertex: an input face of it and its slot there.
     input_face: Vec<(u32, u8)>,
-    /// Edges of the working surface (for grading the sizing field).
-    surf_edges: Vec<[u32; 2]>,
+    /// Neighbours of each working-surface vertex (CSR: `surf_adj[surf_off[v]..surf_off[v + 1]]`),
+    /// for grading the sizing field; empty without a deviation bound.
+    surf_off: Vec<u32>,
+    surf_adj: Vec<u32>,
     /// Working-surface faces from this index on are hole fill.
     n_input_faces: u32,
     /// Approximation-error bound (0: off) and the smallest local target it may ask for.
@@ -352,11 +351,29 @@ fn remesh_manifold(
     let feats = extract_features(&surf, &surf_topo, opts, n_input_faces)?;
     let m = HalfMesh::build(&surf, &surf_topo);
     let mut w = Work::new(m, feats, &bvh, &surf, sizing, mesh);
-    w.surf_edges = surf_topo.edges().to_vec();
     w.n_input_faces = n_input_faces;
     w.dev_bound = opts.max_deviation_mm;
     if w.dev_bound > 0.0 {
         w.roughness = roughness_field(&surf, &surf_topo);
+        let n = surf.positions.len();
+        let mut off = vec![0u32; n + 1];
+        for e in surf_topo.edges() {
+            off[e[0] as usize + 1] += 1;
+            off[e[1] as usize + 1] += 1;
+        }
+        for v in 0..n {
+            off[v + 1] += off[v];
+        }
+        let mut fill = off.clone();
+        let mut adj = vec![0u32; off[n] as usize];
+        for e in surf_topo.edges() {
+            for (a, b) in [(e[0], e[1]), (e[1], e[0])] {
+                adj[fill[a as usize] as usize] = b;
+                fill[a as usize] += 1;
+            }
+        }
+        w.surf_off = off;
+        w.surf_adj = adj;
     }
     w.dev_floor = opts
         .min_edge_mm
@@ -949,7 +966,8 @@ impl<'a> Work<'a> {
             surf,
             sizing,
             input_face,
-            surf_edges: Vec::new(),
+            surf_off: Vec::new(),
+            surf_adj: Vec::new(),
             n_input_faces: u32::MAX,
             dev_bound: 0.0,
             dev_floor: 0.0,
@@ -1384,33 +1402,35 @@ impl<'a> Work<'a> {
         if asks.is_empty() {
             return 0;
         }
+        let mut queue = std::collections::VecDeque::new();
         for (want, under) in &asks {
             for &sf in under {
                 if sf == INVALID {
                     continue;
                 }
                 for v in self.surf.faces[sf as usize] {
-                    let s = &mut self.sizing[v as usize];
-                    *s = s.min(*want);
+                    if self.sizing[v as usize] > *want {
+                        self.sizing[v as usize] = *want;
+                        queue.push_back(v);
+                    }
                 }
             }
         }
-        // Grade: L(b) ≤ L(a) + SIZING_GRADE·|ab| along every working-surface edge.
-        for _ in 0..SIZING_GRADE_SWEEPS {
-            let mut changed = false;
-            for &[a, b] in &self.surf_edges {
-                let (a, b) = (a as usize, b as usize);
-                let g = SIZING_GRADE * dist(self.surf.positions[a], self.surf.positions[b]);
-                if self.sizing[b] > self.sizing[a] + g {
-                    self.sizing[b] = self.sizing[a] + g;
-                    changed = true;
-                } else if self.sizing[a] > self.sizing[b] + g {
-                    self.sizing[a] = self.sizing[b] + g;
-                    changed = true;
+        // Grade: L(u) ≤ L(v) + SIZING_GRADE·|uv| along every working-surface edge, spread
+        // from the lowered vertices only (label-correcting shortest paths).
+        while let Some(v) = queue.pop_front() {
+            let (lo, hi) = (
+                self.surf_off[v as usize] as usize,
+                self.surf_off[v as usize + 1] as usize,
+            );
+            for &u in &self.surf_adj[lo..hi] {
+                let pv = self.surf.positions[v as usize];
+                let cand = self.sizing[v as usize]
+                    + SIZING_GRADE * dist(pv, self.surf.positions[u as usize]);
+                if self.sizing[u as usize] > cand {
+                    self.sizing[u as usize] = cand;
+                    queue.push_back(u);
                 }
-            }
-            if !changed {
-                break;
             }
         }
         self.update_sizing();
