@@ -73,6 +73,12 @@ fn remesh_fills_the_small_hole_and_reports_quality() {
     assert_eq!(q["holes_filled"], 1);
     assert!(q["edges_within_half_to_1_5"].as_f64().unwrap() >= 0.99);
     assert!(q["vertex_to_input"]["max_mm"].as_f64().unwrap() < 1e-9);
+    // The default approximation-error bound is checked and reported: 10 mm triangles on a
+    // 100 mm sphere sit ≈ 0.17 mm inside it, so nothing is over it and nothing is rough.
+    assert_eq!(q["max_deviation_mm"], 0.5);
+    assert_eq!(q["samples_over_deviation"], 0);
+    assert_eq!(q["rough_input_fraction"], 0.0);
+    assert!(q["centroid_to_input"]["max_mm"].as_f64().unwrap() <= 0.5);
     assert_eq!(
         std::fs::read(&input).unwrap(),
         before,
@@ -142,4 +148,24 @@ fn remesh_refuses_bad_input_naming_the_element() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--edge-mm"));
+    // A negative deviation bound names the option.
+    let sphere = dir.path().join("sphere.obj");
+    flatcut_io::write_mesh(
+        &sphere,
+        &icosphere(50.0, 3),
+        &flatcut_io::WriteOptions::default(),
+    )
+    .unwrap();
+    let out = flatcut()
+        .args(["remesh", "--edge-mm", "8", "--max-deviation-mm=-1"])
+        .arg(&sphere)
+        .arg(dir.path().join("o.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("max_deviation_mm") && err.contains("sphere.obj"),
+        "{err}"
+    );
 }
