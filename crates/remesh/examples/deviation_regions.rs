@@ -7,7 +7,9 @@
 //! `FLATCUT_DATA=/work/shared/meshes cargo run --release -p flatcut_remesh --example deviation_regions [bound_mm [target_edge_mm]]`
 //! counts centroids farther than `bound_mm` (default 0.5) at `target_edge_mm` (default 8).
 //! Environment: `CLEAN=1` remeshes mh_body_subdiv2.obj (×100, noise-free) instead of the
-//! scan; `DEV=x` sets the remesh's `max_deviation_mm` (default 0.5; 0 turns refinement off).
+//! scan; `DEV=x` sets the remesh's `max_deviation_mm` (default 0.5; 0 turns refinement off);
+//! `MIN=a MAX=b` set `min_edge_mm`/`max_edge_mm` (curvature adaptivity, and the refinement
+//! floor `a`).
 
 #![allow(clippy::unwrap_used)]
 
@@ -78,6 +80,8 @@ fn main() {
     let opts = RemeshOptions {
         target_edge_mm: target,
         max_deviation_mm: std::env::var("DEV").map_or(0.5, |s| s.parse().unwrap()),
+        min_edge_mm: std::env::var("MIN").ok().map(|s| s.parse().unwrap()),
+        max_edge_mm: std::env::var("MAX").ok().map(|s| s.parse().unwrap()),
         fill_holes_perimeter_mm: 200.0,
         ..RemeshOptions::default()
     };
