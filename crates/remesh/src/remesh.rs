@@ -1332,6 +1332,15 @@ impl<'a> Work<'a> {
         }
     }
 
+    /// Whether working-surface face `sf` has a corner rougher than the bound allows (see
+    /// `ROUGHNESS_REL`); true when no roughness was computed.
+    fn rough_face(&self, sf: u32) -> bool {
+        self.roughness.is_empty()
+            || self.surf.faces[sf as usize]
+                .iter()
+                .any(|&v| self.roughness[v as usize] > ROUGHNESS_REL * self.dev_bound)
+    }
+
     /// Approximation-error refinement: every face whose centroid or an edge midpoint lies
     /// farther than the bound from the working surface (fill faces excluded) lowers the
     /// sizing field at the working-surface faces under it to L·√(bound/d)·margin (not below
@@ -1362,6 +1371,13 @@ impl<'a> Work<'a> {
                 if l <= me.dev_floor * (1.0 + 1e-9) {
                     return None;
                 }
+                // Noise under a corner: no refinement (and no samples to pay for).
+                if under[..3]
+                    .iter()
+                    .any(|&sf| sf != INVALID && me.rough_face(sf))
+                {
+                    return None;
+                }
                 let p = vs.map(|v| me.m.pos[v as usize]);
                 let samples = [
                     scale(add(add(p[0], p[1]), p[2]), 1.0 / 3.0),
@@ -1383,11 +1399,7 @@ impl<'a> Work<'a> {
                     return None;
                 }
                 // Scan noise finer than the face: refining would only add faces.
-                if me.roughness.is_empty()
-                    || me.surf.faces[worst.1 as usize]
-                        .iter()
-                        .any(|&v| me.roughness[v as usize] > ROUGHNESS_REL * me.dev_bound)
-                {
+                if me.rough_face(worst.1) {
                     return None;
                 }
                 under[3] = worst.1;
