@@ -273,6 +273,12 @@ fn darts_features_and_shrink_outside_their_piece_are_refused_with_their_line() {
         assert!(e.contains(at) && e.contains(what), "{line}\n{e}");
         assert!(!out.exists(), "a failed run must leave no output folder");
     }
+    // A mirrored pair needs an even quantity.
+    let e = parse(&piece_with("mirror = true")).unwrap_err().to_string();
+    assert!(
+        e.contains("t.toml:8:8: piece.quantity:") && e.contains("even quantity"),
+        "{e}"
+    );
     // An unknown key inside a dart names it.
     let e = run_in(
         &piece_with("darts = [{ from = [0, 0, 200], tipp = [0, 40, 196] }]"),

@@ -366,6 +366,17 @@ impl Pipeline {
                     "quantity must be at least 1".into(),
                 ));
             }
+            if p.mirror && p.quantity % 2 != 0 {
+                return Err(self.invalid(
+                    p.name.span(),
+                    "piece.quantity",
+                    format!(
+                        "piece {:?} has mirror = true and quantity = {}: mirrored pieces are cut in left/right pairs, give an even quantity (2 for one pair)",
+                        p.name.get_ref(),
+                        p.quantity
+                    ),
+                ));
+            }
             if let Some(g) = &p.grain {
                 let v = g.get_ref();
                 if !(v.iter().all(|c| c.is_finite()) && v.iter().any(|c| *c != 0.0)) {
