@@ -561,3 +561,68 @@ fn shrink_scales_the_pattern_along_and_across_the_grain() {
         "{cap:?}"
     );
 }
+
+#[test]
+fn a_dart_starting_on_a_seam_splits_the_seam_and_every_mate_still_matches() {
+    // The 60° cap cut in two along x = 0; a dart in the east half starts on that seam.
+    let z = |r: f64| (200.0f64 * 200.0 - r * r).sqrt();
+    let text = format!(
+        r#"schema = 1
+name = "seam-dart"
+
+[input]
+generator = {{ kind = "sphere-cap", n = 15, cap_angle_deg = 60.0, radius_mm = 200.0 }}
+
+[[cut]]
+name = "c"
+points = [[0.0, -100.0, {rim}], [0.0, 0.0, 200.0], [0.0, 100.0, {rim}]]
+
+[[piece]]
+name = "east"
+seed = [50.0, 0.0, {z50}]
+darts = [{{ name = "d", from = [0.0, 40.0, {z40}], tip = [45.0, 40.0, {z60}] }}]
+
+[[piece]]
+name = "west"
+seed = [-50.0, 0.0, {z50}]
+
+[export]
+formats = ["svg"]
+"#,
+        rim = z(100.0),
+        z50 = z(50.0),
+        z40 = z(40.0),
+        z60 = z((45.0f64 * 45.0 + 40.0 * 40.0).sqrt()),
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, _) = run_text(&text, tmp.path(), "a");
+    let r = &out.report;
+    assert_eq!(r.pieces[0].darts, ["d"]);
+    for p in &r.pieces {
+        assert!(
+            p.process.converged && p.process.theta_err_after <= 1e-9,
+            "{p:?}"
+        );
+        assert!(p.flatten.max_edge_strain <= 1e-6, "{p:?}");
+    }
+    let ids: Vec<&str> = r.seam_table.iter().map(|s| s.id.as_str()).collect();
+    // The dart's mouth opens the seam in two at the dart's start.
+    assert_eq!(ids, ["c/0.1", "c/0.2", "d/0"], "{:?}", r.seam_table);
+    let (c1, c2) = (&r.seam_table[0], &r.seam_table[1]);
+    // The two parts add up to the cut line's length: from rim to rim through the pole,
+    // 2 R · 30° on the sphere, a little less on the mesh's chords.
+    let arc = 2.0 * 200.0 * 30f64.to_radians();
+    let total = c1.length_3d_mm + c2.length_3d_mm;
+    assert!(
+        total < arc && total > (1.0 - 1e-3) * arc,
+        "{total} vs {arc}"
+    );
+    // Mates agree in 2D with each other and with 3D (processing keeps the boundary).
+    for s in &r.seam_table {
+        assert!(s.difference_mm.abs() <= 1e-6, "{s:?}");
+        assert!(
+            (s.a_2d_mm - s.length_3d_mm).abs() <= 1e-5 * s.length_3d_mm,
+            "{s:?}"
+        );
+    }
+}

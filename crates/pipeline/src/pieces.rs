@@ -202,6 +202,7 @@ pub fn darts_and_features(
     p: &Pipeline,
     piece: &mut PieceMesh,
     units_to_mm: f64,
+    seam_vertices: &std::collections::BTreeSet<u32>,
 ) -> Result<Option<flatcut_dart::Darted>, PipelineError> {
     let Some(ps) = piece.spec.map(|i| p.spec.pieces[i].get_ref()) else {
         return Ok(None);
@@ -215,6 +216,14 @@ pub fn darts_and_features(
                 let mut d = d.get_ref().clone();
                 d.from = d.from.map(|c| c * units_to_mm);
                 d.tip = d.tip.map(|t| t.map(|c| c * units_to_mm));
+                if let Some(v) = snap_to_seam_vertex(
+                    &piece.mesh,
+                    d.from,
+                    seam_vertices,
+                    p.spec.dart.boundary_tolerance_mm,
+                ) {
+                    d.from = v;
+                }
                 d
             })
             .collect();
@@ -262,6 +271,52 @@ pub fn darts_and_features(
         }
     }
     Ok(darted)
+}
+
+/// A dart that starts on a seam must start at one of the seam's vertices: a start inside a
+/// seam edge would need the same new vertex on the seam's mate in another piece. When the
+/// boundary edge closest to `from` (within `tolerance_mm`, else the dart crate reports the
+/// start off the boundary) has both ends on seams, the start moves to its nearer end — at
+/// most half an edge.
+fn snap_to_seam_vertex(
+    mesh: &TriMesh,
+    from: [f64; 3],
+    seam_vertices: &std::collections::BTreeSet<u32>,
+    tolerance_mm: f64,
+) -> Option<[f64; 3]> {
+    use flatcut_mesh::vec3;
+    if seam_vertices.is_empty() {
+        return None;
+    }
+    let topo = Topology::build(mesh).ok()?;
+    let mut best: Option<(f64, u32, u32)> = None;
+    for lp in topo.boundary_loops() {
+        for (k, a) in lp.iter().enumerate() {
+            let b = lp[(k + 1) % lp.len()];
+            let (pa, pb) = (mesh.positions[a.idx()], mesh.positions[b.idx()]);
+            let ab = vec3::sub(pb, pa);
+            let l2 = vec3::norm2(ab);
+            let t = if l2 > 0.0 {
+                (vec3::dot(vec3::sub(from, pa), ab) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let d = vec3::dist(from, vec3::add(pa, vec3::scale(ab, t)));
+            if best.is_none_or(|(bd, _, _)| d < bd) {
+                best = Some((d, a.0, b.0));
+            }
+        }
+    }
+    let (d, a, b) = best?;
+    if d > tolerance_mm || !(seam_vertices.contains(&a) && seam_vertices.contains(&b)) {
+        return None;
+    }
+    let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);
+    Some(if vec3::dist(from, pa) <= vec3::dist(from, pb) {
+        pa
+    } else {
+        pb
+    })
 }
 
 /// Index in the piece's `darts` of the dart a [`flatcut_dart::DartError`] is about.

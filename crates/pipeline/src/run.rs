@@ -537,14 +537,27 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     let t = Instant::now();
     let bar = progress.stage("darts", pieces.len() as u64);
     let units_to_mm = loaded.units.factor_to_mm();
+    // Per piece, the vertices of its seams (a dart starting on a seam starts at one of them).
+    let mut seam_vertices: BTreeMap<&str, std::collections::BTreeSet<u32>> = BTreeMap::new();
+    for s in &seams.seams {
+        for side in [&s.a, &s.b] {
+            seam_vertices
+                .entry(side.piece.as_str())
+                .or_default()
+                .extend(side.vertices.iter().copied());
+        }
+    }
+    let no_seams = std::collections::BTreeSet::new();
     let darted: Vec<Option<flatcut_dart::Darted>> = pieces
         .par_iter_mut()
         .map(|piece| {
-            let r = crate::pieces::darts_and_features(p, piece, units_to_mm);
+            let sv = seam_vertices.get(piece.name.as_str()).unwrap_or(&no_seams);
+            let r = crate::pieces::darts_and_features(p, piece, units_to_mm, sv);
             bar.inc(1);
             r
         })
         .collect::<Result<_, _>>()?;
+    drop(seam_vertices);
     for (piece, d) in pieces.iter().zip(&darted) {
         if let (Some(d), Some(i)) = (d, piece.spec) {
             flatcut_dart::append_dart_seams(&mut seams, &piece.name, d)
