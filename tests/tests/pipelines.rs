@@ -468,6 +468,12 @@ fn a_dart_opens_the_piece_its_legs_match_in_2d_and_it_is_in_the_seams() {
         svg.contains(">size 38<") && svg.contains(">neoprene<"),
         "label"
     );
+    // …and the report page's piece heading.
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    assert!(
+        html.contains("size 38 · neoprene · darts d · feature 0:"),
+        "report.html piece line"
+    );
 }
 
 /// A saddle z = c (x² − y²) (c = 0.001/mm, 300 mm square, 15 × 15 vertices) with a feature
