@@ -632,3 +632,92 @@ formats = ["svg"]
         );
     }
 }
+
+/// Two wire-frames side by side that share their middle curve x = 300 mm (the left one
+/// draws it from y = 0 to 400, the right one back), a cylinder-like sheet
+/// z = 20 sin(π x / 600) mm over 600 × 400 mm.
+fn shared_wire_files(dir: &Path) {
+    let h = |x: f64| 20.0 * (std::f64::consts::PI * x / 600.0).sin();
+    let pts = |p: Vec<[f64; 3]>| {
+        p.iter()
+            .map(|q| format!("[{}, {}, {}]", q[0], q[1], q[2]))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let along_x = |x0: f64, x1: f64, y: f64| {
+        (0..7)
+            .map(|i| {
+                let x = x0 + (x1 - x0) * i as f64 / 6.0;
+                [x, y, h(x)]
+            })
+            .collect::<Vec<_>>()
+    };
+    let along_y = |x: f64, y0: f64, y1: f64| {
+        (0..7)
+            .map(|i| [x, y0 + (y1 - y0) * i as f64 / 6.0, h(x)])
+            .collect::<Vec<_>>()
+    };
+    let curve = |name: &str, p: Vec<[f64; 3]>| {
+        format!("[[curve]]\nname = \"{name}\"\npoints = [{}]\n", pts(p))
+    };
+    let head = "units = \"mm\"\ntarget_edge_mm = 40.0\n";
+    let mut mid_back = along_y(300.0, 0.0, 400.0);
+    mid_back.reverse();
+    let a = [
+        curve("front", along_x(0.0, 300.0, 0.0)),
+        curve("mid", along_y(300.0, 0.0, 400.0)),
+        curve("back", along_x(300.0, 0.0, 400.0)),
+        curve("left", along_y(0.0, 400.0, 0.0)),
+    ]
+    .concat();
+    let b = [
+        curve("front", along_x(300.0, 600.0, 0.0)),
+        curve("right", along_y(600.0, 0.0, 400.0)),
+        curve("back", along_x(600.0, 300.0, 400.0)),
+        curve("mid", mid_back),
+    ]
+    .concat();
+    std::fs::write(dir.join("a.toml"), format!("{head}{a}")).unwrap();
+    std::fs::write(dir.join("b.toml"), format!("{head}{b}")).unwrap();
+}
+
+#[test]
+fn wireframes_sharing_a_curve_are_welded_and_a_cut_along_it_makes_the_seam() {
+    let tmp = tempfile::tempdir().unwrap();
+    shared_wire_files(tmp.path());
+    let seeds = "[[piece]]\nname = \"a\"\nseed = [150.0, 200.0, 14.142135623730951]\n\n[[piece]]\nname = \"b\"\nseed = [450.0, 200.0, 14.142135623730951]\n";
+    let head = "schema = 1\nname = \"share\"\n\n[input]\nwireframes = [\"a.toml\", \"b.toml\"]\n\n[export]\nformats = [\"svg\"]\n\n";
+    // Both patches resample the shared curve alike, so cleaning welds them into one surface:
+    // the two seeds then name one piece.
+    let toml = tmp.path().join("one.toml");
+    std::fs::write(&toml, format!("{head}{seeds}")).unwrap();
+    let e = flatcut_pipeline::run(
+        &Pipeline::read(&toml).unwrap(),
+        &RunOptions {
+            out: Some(tmp.path().join("one")),
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("lies in the same piece"), "{e}");
+    // A cut along the shared curve (a straight line, so the geodesic between its ends)
+    // separates them and records the seam.
+    let cut = "[[cut]]\nname = \"mid\"\npoints = [[300.0, 0.0, 20.0], [300.0, 400.0, 20.0]]\n\n";
+    let (out, _) = run_text(&format!("{head}{cut}{seeds}"), tmp.path(), "two");
+    let r = &out.report;
+    assert_eq!(r.pieces.len(), 2);
+    assert_eq!(r.seam_table.len(), 1, "{:?}", r.seam_table);
+    let s = &r.seam_table[0];
+    assert_eq!(
+        (s.id.as_str(), s.a_piece.as_str(), s.b_piece.as_str()),
+        ("mid/0", "a", "b")
+    );
+    // 400 mm long in 3D; both mates the same in 2D (processing keeps the boundary).
+    assert!((s.length_3d_mm - 400.0).abs() <= 1e-9, "{s:?}");
+    assert!(
+        (s.a_2d_mm - 400.0).abs() <= 1e-6 && s.difference_mm.abs() <= 1e-6,
+        "{s:?}"
+    );
+}
