@@ -721,3 +721,18 @@ fn wireframes_sharing_a_curve_are_welded_and_a_cut_along_it_makes_the_seam() {
         "{s:?}"
     );
 }
+
+#[test]
+fn darts_and_features_give_identical_bytes_on_one_or_two_threads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let toml = tmp.path().join("d.toml");
+    std::fs::write(
+        &toml,
+        dart_cap_toml(10.0, "shrink = { along_grain = -0.05 }"),
+    )
+    .unwrap();
+    let (one, two) = (tmp.path().join("1"), tmp.path().join("2"));
+    run(&toml, &one, Some(1));
+    run(&toml, &two, Some(2));
+    assert_same_outputs(&one, &two, "dart cap: 1 vs 2 threads");
+}
