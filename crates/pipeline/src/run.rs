@@ -2,8 +2,8 @@
 //! output folder is touched (so a failing stage leaves no folder behind), then written with
 //! the report last.
 //!
-//! Stages: input (read or generate), clean, pieces, process (per piece), flatten (per piece),
-//! outputs. Results do not depend on the thread count: pieces are independent, collected in
+//! Stages: input (read, generate or span wire-frames), clean, remesh (optional), pieces, darts
+//! and feature curves (per piece), process (per piece), flatten (per piece), outputs. Results do not depend on the thread count: pieces are independent, collected in
 //! order, and each stage's algorithm is itself thread-count independent.
 
 use std::collections::BTreeMap;
@@ -221,7 +221,7 @@ fn load_input(p: &Pipeline) -> Result<Loaded, PipelineError> {
     } else if let Some(ws) = &input.wireframes {
         load_wireframes(p, ws.get_ref())
     } else {
-        // `Pipeline::parse` guarantees one of the two.
+        // `Pipeline::parse` guarantees one of the three.
         Err(p.invalid(
             p.spec.input.span(),
             "input",
