@@ -210,3 +210,119 @@ fn output_folder_rules() {
         input_bytes
     );
 }
+
+/// `GOOD` with one piece "a" at the pole and `line` as its fourth line (line 10).
+fn piece_with(line: &str) -> String {
+    format!("{GOOD}\n[[piece]]\nname = \"a\"\nseed = [0, 0, 200]\n{line}\n")
+}
+
+#[test]
+fn darts_features_and_shrink_outside_their_piece_are_refused_with_their_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let rim_z = 200.0 * 30f64.to_radians().cos();
+    let two_darts = format!(
+        "darts = [{{ from = [100, 0, {rim_z}], tip = [40, 0, 196] }}, {{ name = \"x\", from = [0, 0, 200], tip = [0, 40, 196] }}]"
+    );
+    // The column of the second dart's table.
+    let second = format!(
+        "t.toml:10:{}: piece.darts: piece \"a\": dart 1 \"x\"",
+        two_darts.find("{ name").unwrap() + 1
+    );
+    let cases = [
+        // A dart starting at the pole, 100 mm from the rim (the piece's boundary).
+        (
+            "darts = [{ from = [0, 0, 200], tip = [0, 40, 196] }]".to_string(),
+            "t.toml:10:10: piece.darts: piece \"a\":",
+            "from the piece's boundary",
+        ),
+        // A dart whose tip lies 60 mm above the cap.
+        (
+            format!("darts = [{{ from = [100, 0, {rim_z}], tip = [40, 0, 256] }}]"),
+            "t.toml:10:10: piece.darts: piece \"a\":",
+            "from the piece's surface",
+        ),
+        // The second dart is the bad one: its own table is named.
+        (
+            two_darts.clone(),
+            second.as_str(),
+            "from the piece's boundary",
+        ),
+        // A feature landmark 60 mm above the pole.
+        (
+            "features = [[[0, 0, 200], [0, 0, 260]]]".to_string(),
+            "t.toml:10:13: piece.features: piece \"a\": landmark 1 of feature curve 0 is 60.000 mm",
+            "on this piece",
+        ),
+        // Shrink out of range: the allowed range is said.
+        (
+            "shrink = { along_grain = 0.7 }".to_string(),
+            "t.toml:10:26: piece.shrink.along_grain: piece \"a\":",
+            "between -0.5 and 0.5",
+        ),
+        (
+            "shrink = { across_grain = -5 }".to_string(),
+            "t.toml:10:27: piece.shrink.across_grain:",
+            "-0.05 for 5 %",
+        ),
+    ];
+    for (line, at, what) in &cases {
+        let e = run_in(&piece_with(line), tmp.path(), &out, false)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(at) && e.contains(what), "{line}\n{e}");
+        assert!(!out.exists(), "a failed run must leave no output folder");
+    }
+    // A mirrored pair needs an even quantity.
+    let e = parse(&piece_with("mirror = true")).unwrap_err().to_string();
+    assert!(
+        e.contains("t.toml:8:8: piece.quantity:") && e.contains("even quantity"),
+        "{e}"
+    );
+    // An unknown key inside a dart names it.
+    let e = run_in(
+        &piece_with("darts = [{ from = [0, 0, 200], tipp = [0, 40, 196] }]"),
+        tmp.path(),
+        &out,
+        false,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("t.toml:10:") && e.contains("tipp"), "{e}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_missing_wireframe_names_the_file_and_the_toml_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let text = "schema = 1\nname = \"t\"\n[input]\nwireframes = [\"w/seat.toml\"]\n";
+    let e = run_in(text, tmp.path(), &out, false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("t.toml:4:15: input.wireframes:") && e.contains("seat.toml"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    // A wire-frame with a bad key: its own file, line and column.
+    std::fs::create_dir_all(tmp.path().join("w")).unwrap();
+    std::fs::write(
+        tmp.path().join("w/seat.toml"),
+        "target_edge_mm = 20\ncolour = 1\n",
+    )
+    .unwrap();
+    let e = run_in(text, tmp.path(), &out, false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("t.toml:4:15: input.wireframes:") && e.contains("seat.toml:2:1:"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    // Two input sources.
+    let e = parse(&GOOD.replace("[input]\n", "[input]\nwireframes = [\"a.toml\"]\n"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("input.") && e.contains("not both"), "{e}");
+}

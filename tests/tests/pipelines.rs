@@ -195,8 +195,9 @@ fn assert_same_outputs(a: &Path, b: &Path, what: &str) {
 #[test]
 fn running_twice_and_on_one_or_two_threads_gives_identical_bytes() {
     let tmp = tempfile::tempdir().unwrap();
-    for name in ["wetsuit-demo", "patch-demo"] {
-        let path = pipelines_dir().join(format!("{name}.toml"));
+    // Every bundled pipeline that needs no shared data (those run in the real-data tests).
+    for path in all_pipelines().into_iter().filter(|p| !needs_data(p)) {
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
         let one = tmp.path().join(format!("{name}-1"));
         let two = tmp.path().join(format!("{name}-2"));
         let again = tmp.path().join(format!("{name}-1-again"));
@@ -311,4 +312,427 @@ fn wetsuit_demo_cuts_eight_flattenable_disks_whose_seams_match_in_2d() {
         );
     }
     assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+}
+
+#[test]
+fn sofa_demo_makes_two_leather_pieces_from_wireframes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = pipelines_dir().join("sofa-demo.toml");
+    let out = run(&path, &tmp.path().join("o"), None);
+    let r = &out.report;
+    // Both wire-frames are inputs, hashed from their bytes.
+    assert_eq!(r.inputs.len(), 2);
+    for (i, name) in ["seat", "back"].iter().enumerate() {
+        let file = pipelines_dir().join(format!("../fixtures/wireframes/{name}.toml"));
+        assert_eq!(r.inputs[i].key, "input.wireframes");
+        assert_eq!(r.inputs[i].sha256, sha256(&std::fs::read(&file).unwrap()));
+    }
+    let names: Vec<&str> = r.pieces.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["seat", "back"]);
+    for p in &r.pieces {
+        assert_eq!(
+            (p.boundary_loops, p.euler_characteristic),
+            (1, 1),
+            "{}",
+            p.name
+        );
+        assert_eq!(p.fabric, "leather");
+        assert!(
+            p.process.converged && p.process.theta_err_after <= 1e-9,
+            "{p:?}"
+        );
+        assert!(p.flatten.max_edge_strain <= 1e-4, "{p:?}");
+        assert_eq!(p.flatten.flipped_faces, 0, "{}", p.name);
+        // Leather: no shrink, so the pattern inside its sew line has the flattening's size
+        // (the flattening already put the grain along +y).
+        assert_eq!(
+            (p.pattern.shrink_along_grain, p.pattern.shrink_across_grain),
+            (0.0, 0.0)
+        );
+        for k in 0..2 {
+            assert!(
+                (p.pattern.size_mm[k] - p.flatten.size_mm[k]).abs() <= 1e-9 * p.flatten.size_mm[k],
+                "{p:?}"
+            );
+        }
+    }
+    // The seat spans 600 × 550 mm in plan and rises 30 mm to its crown: its flattened
+    // boundary is at least the plan's perimeter (2 × (600 + 550) = 2300 mm) and not far
+    // more; the back's boundary is 3D-to-2D length-preserving like every boundary here.
+    let seat = &r.pieces[0].flatten;
+    assert!(
+        seat.boundary_3d_mm > 2300.0 && seat.boundary_3d_mm < 2400.0,
+        "{seat:?}"
+    );
+    for p in &r.pieces {
+        let f = &p.flatten;
+        assert!((f.boundary_2d_mm - f.boundary_3d_mm).abs() <= 1e-3, "{f:?}");
+    }
+}
+
+/// A 60° cap (R = 200 mm, rim radius 100 mm at z = R cos 30°) with a dart from the rim at
+/// +x to 40 mm from the axis and a feature curve along y, size and fabric; `shrink` is an
+/// optional `shrink = …` line.
+fn dart_cap_toml(feature_weight: f64, shrink: &str) -> String {
+    let z = |r: f64| (200.0f64 * 200.0 - r * r).sqrt();
+    format!(
+        r#"schema = 1
+name = "dart-cap"
+
+[input]
+generator = {{ kind = "sphere-cap", n = 15, cap_angle_deg = 60.0, radius_mm = 200.0 }}
+
+[[piece]]
+name = "cap"
+seed = [0.0, 0.0, 200.0]
+grain = [0.0, 1.0, 0.0]
+{shrink}
+darts = [{{ name = "d", from = [100.0, 0.0, {z100}], tip = [40.0, 0.0, {z40}] }}]
+features = [[[-10.0, -70.0, {z70}], [-10.0, 70.0, {z70}]]]
+fabric = "neoprene"
+size = "38"
+
+[process]
+feature_weight = {feature_weight}
+
+[export]
+formats = ["svg"]
+"#,
+        z100 = z(100.0),
+        z40 = z(40.0),
+        z70 = z((70.0f64 * 70.0 + 100.0).sqrt()),
+    )
+}
+
+fn run_text(text: &str, dir: &Path, name: &str) -> (flatcut_pipeline::RunOutcome, PathBuf) {
+    let toml = dir.join(format!("{name}.toml"));
+    std::fs::write(&toml, text).unwrap();
+    let out = dir.join(name);
+    (run(&toml, &out, None), out)
+}
+
+#[test]
+fn a_dart_opens_the_piece_its_legs_match_in_2d_and_it_is_in_the_seams() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, dir) = run_text(&dart_cap_toml(10.0, ""), tmp.path(), "a");
+    let r = &out.report;
+    let cap = &r.pieces[0];
+    assert_eq!(cap.darts, ["d"]);
+    // Opened along the dart, still one disk, developable and flattened without stretch.
+    assert_eq!((cap.boundary_loops, cap.euler_characteristic), (1, 1));
+    assert!(
+        cap.process.converged && cap.process.theta_err_after <= 1e-9,
+        "{cap:?}"
+    );
+    assert!(cap.flatten.max_edge_strain <= 1e-6, "{cap:?}");
+    // The dart is a seam of the cap with itself; processing never moves boundary vertices,
+    // and both legs are copies of one 3D path, so an isometric flattening gives both legs
+    // the dart's 3D length: from the rim (100 mm from the axis) to 40 mm from it along the
+    // sphere, R (asin(100/R) − asin(40/R)) for the great-circle path through the axis plane.
+    let row = r.seam_table.iter().find(|s| s.id == "d/0").unwrap();
+    assert_eq!(serde_json::to_value(row.kind).unwrap(), "dart");
+    assert_eq!((row.a_piece.as_str(), row.b_piece.as_str()), ("cap", "cap"));
+    assert!(row.difference_mm.abs() <= 1e-6, "{row:?}");
+    // The mesh's path runs on chords of the sphere (grid spacing ≈ 15 mm): shorter than the
+    // great circle by O(h²/R²) — measured 1.6e-4 relative.
+    let great_circle = 200.0 * ((100.0f64 / 200.0).asin() - (40.0f64 / 200.0).asin());
+    assert!(
+        row.length_3d_mm < great_circle && row.length_3d_mm > (1.0 - 1e-3) * great_circle,
+        "{row:?}"
+    );
+    assert!(
+        (row.a_2d_mm - row.length_3d_mm).abs() <= 1e-5 * row.length_3d_mm,
+        "{row:?}"
+    );
+    // report.json says the same, and seams.json and the pattern carry the dart.
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    let jrow = json["seam_table"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["id"] == "d/0")
+        .unwrap();
+    assert!(jrow["difference_mm"].as_f64().unwrap().abs() <= 1e-6);
+    let seams = std::fs::read_to_string(dir.join("seams.json")).unwrap();
+    assert!(
+        seams.contains("\"d/0\"") && seams.contains("\"dart\""),
+        "{seams}"
+    );
+    let svg = std::fs::read_to_string(dir.join("pieces/cap.svg")).unwrap();
+    // Both legs drawn on the dart layer, and the dart is a seam of the piece in the SVG.
+    assert_eq!(svg.matches("id=\"cap-dart-").count(), 2, "both legs drawn");
+    assert!(svg.matches("data-seam-id=\"d/0\"").count() >= 2);
+    // Size and fabric reach the pattern's label.
+    assert!(
+        svg.contains(">size 38<") && svg.contains(">neoprene<"),
+        "label"
+    );
+    // …and the report page's piece heading.
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    assert!(
+        html.contains("size 38 · neoprene · darts d · feature 0:"),
+        "report.html piece line"
+    );
+}
+
+/// A saddle z = c (x² − y²) (c = 0.001/mm, 300 mm square, 15 × 15 vertices) with a feature
+/// curve along y = 50 mm from x = −100 to 100 mm, weighted `feature_weight`.
+fn saddle_feature_toml(feature_weight: f64) -> String {
+    let z = |x: f64, y: f64| 0.001 * (x * x - y * y);
+    format!(
+        r#"schema = 1
+name = "feature-saddle"
+
+[input]
+generator = {{ kind = "saddle", n = 15 }}
+
+[[piece]]
+name = "s"
+seed = [0.0, 0.0, 0.0]
+features = [[[-100.0, 50.0, {a}], [100.0, 50.0, {a}]]]
+
+[process]
+feature_weight = {feature_weight}
+
+[export]
+formats = ["svg"]
+"#,
+        a = z(100.0, 50.0),
+    )
+}
+
+#[test]
+fn a_feature_curve_moves_less_when_weighted() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (weighted, dir) = run_text(&saddle_feature_toml(10.0), tmp.path(), "w10");
+    // Weight 1 is processing without the feature (every vertex weighs 1).
+    let (plain, _) = run_text(&saddle_feature_toml(1.0), tmp.path(), "w1");
+    let (pw, pp) = (&weighted.report.pieces[0], &plain.report.pieces[0]);
+    let (fw, fp) = (&pw.features[0], &pp.features[0]);
+    // The same chain: the grid row y = 50 mm between x = ±100 mm (grid spacing 300/14 mm,
+    // so the landmarks snap to the nearest grid points), one vertex per column.
+    assert_eq!(fw.vertices, fp.vertices);
+    assert_eq!(fw.vertices.len(), 11, "{fw:?}");
+    assert!(fw.length_3d_mm >= 200.0 - 2.0 * 300.0 / 14.0, "{fw:?}");
+    // Both developable; the weighted curve moves much less (measured: RMS 3.7 vs 21.0 mm).
+    for p in [pw, pp] {
+        assert!(
+            p.process.converged && p.process.theta_err_after <= 1e-9,
+            "{p:?}"
+        );
+    }
+    assert!(fp.rms_displacement_mm > 10.0, "{fp:?}");
+    assert!(
+        fw.rms_displacement_mm < 0.5 * fp.rms_displacement_mm,
+        "{fw:?} vs {fp:?}"
+    );
+    assert!(
+        fw.max_displacement_mm < fp.max_displacement_mm,
+        "{fw:?} vs {fp:?}"
+    );
+    // It is drawn as an internal line of the pattern.
+    let svg = std::fs::read_to_string(dir.join("pieces/s.svg")).unwrap();
+    assert!(svg.contains("id=\"s-internal-0\""));
+}
+
+#[test]
+fn shrink_scales_the_pattern_along_and_across_the_grain() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, _) = run_text(
+        &dart_cap_toml(
+            10.0,
+            "shrink = { along_grain = -0.05, across_grain = 0.02 }",
+        ),
+        tmp.path(),
+        "s",
+    );
+    let cap = &out.report.pieces[0];
+    assert_eq!(
+        (
+            cap.pattern.shrink_along_grain,
+            cap.pattern.shrink_across_grain
+        ),
+        (-0.05, 0.02)
+    );
+    // The pattern is the flattening (grain already along +y) scaled by 1 + across in x and
+    // 1 + along in y; the extremes of a disk's flattening lie on its boundary, the sew line.
+    let (w, h) = (cap.flatten.size_mm[0], cap.flatten.size_mm[1]);
+    assert!(
+        (cap.pattern.size_mm[0] - 1.02 * w).abs() <= 1e-9 * w,
+        "{cap:?}"
+    );
+    assert!(
+        (cap.pattern.size_mm[1] - 0.95 * h).abs() <= 1e-9 * h,
+        "{cap:?}"
+    );
+}
+
+#[test]
+fn a_dart_starting_on_a_seam_splits_the_seam_and_every_mate_still_matches() {
+    // The 60° cap cut in two along x = 0; a dart in the east half starts on that seam.
+    let z = |r: f64| (200.0f64 * 200.0 - r * r).sqrt();
+    let text = format!(
+        r#"schema = 1
+name = "seam-dart"
+
+[input]
+generator = {{ kind = "sphere-cap", n = 15, cap_angle_deg = 60.0, radius_mm = 200.0 }}
+
+[[cut]]
+name = "c"
+points = [[0.0, -100.0, {rim}], [0.0, 0.0, 200.0], [0.0, 100.0, {rim}]]
+
+[[piece]]
+name = "east"
+seed = [50.0, 0.0, {z50}]
+darts = [{{ name = "d", from = [0.0, 40.0, {z40}], tip = [45.0, 40.0, {z60}] }}]
+
+[[piece]]
+name = "west"
+seed = [-50.0, 0.0, {z50}]
+
+[export]
+formats = ["svg"]
+"#,
+        rim = z(100.0),
+        z50 = z(50.0),
+        z40 = z(40.0),
+        z60 = z((45.0f64 * 45.0 + 40.0 * 40.0).sqrt()),
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, _) = run_text(&text, tmp.path(), "a");
+    let r = &out.report;
+    assert_eq!(r.pieces[0].darts, ["d"]);
+    for p in &r.pieces {
+        assert!(
+            p.process.converged && p.process.theta_err_after <= 1e-9,
+            "{p:?}"
+        );
+        assert!(p.flatten.max_edge_strain <= 1e-6, "{p:?}");
+    }
+    let ids: Vec<&str> = r.seam_table.iter().map(|s| s.id.as_str()).collect();
+    // The dart's mouth opens the seam in two at the dart's start.
+    assert_eq!(ids, ["c/0.1", "c/0.2", "d/0"], "{:?}", r.seam_table);
+    let (c1, c2) = (&r.seam_table[0], &r.seam_table[1]);
+    // The two parts add up to the cut line's length: from rim to rim through the pole,
+    // 2 R · 30° on the sphere, a little less on the mesh's chords.
+    let arc = 2.0 * 200.0 * 30f64.to_radians();
+    let total = c1.length_3d_mm + c2.length_3d_mm;
+    assert!(
+        total < arc && total > (1.0 - 1e-3) * arc,
+        "{total} vs {arc}"
+    );
+    // Mates agree in 2D with each other and with 3D (processing keeps the boundary).
+    for s in &r.seam_table {
+        assert!(s.difference_mm.abs() <= 1e-6, "{s:?}");
+        assert!(
+            (s.a_2d_mm - s.length_3d_mm).abs() <= 1e-5 * s.length_3d_mm,
+            "{s:?}"
+        );
+    }
+}
+
+/// Two wire-frames side by side that share their middle curve x = 300 mm (the left one
+/// draws it from y = 0 to 400, the right one back), a cylinder-like sheet
+/// z = 20 sin(π x / 600) mm over 600 × 400 mm.
+fn shared_wire_files(dir: &Path) {
+    let h = |x: f64| 20.0 * (std::f64::consts::PI * x / 600.0).sin();
+    let pts = |p: Vec<[f64; 3]>| {
+        p.iter()
+            .map(|q| format!("[{}, {}, {}]", q[0], q[1], q[2]))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let along_x = |x0: f64, x1: f64, y: f64| {
+        (0..7)
+            .map(|i| {
+                let x = x0 + (x1 - x0) * i as f64 / 6.0;
+                [x, y, h(x)]
+            })
+            .collect::<Vec<_>>()
+    };
+    let along_y = |x: f64, y0: f64, y1: f64| {
+        (0..7)
+            .map(|i| [x, y0 + (y1 - y0) * i as f64 / 6.0, h(x)])
+            .collect::<Vec<_>>()
+    };
+    let curve = |name: &str, p: Vec<[f64; 3]>| {
+        format!("[[curve]]\nname = \"{name}\"\npoints = [{}]\n", pts(p))
+    };
+    let head = "units = \"mm\"\ntarget_edge_mm = 40.0\n";
+    let mut mid_back = along_y(300.0, 0.0, 400.0);
+    mid_back.reverse();
+    let a = [
+        curve("front", along_x(0.0, 300.0, 0.0)),
+        curve("mid", along_y(300.0, 0.0, 400.0)),
+        curve("back", along_x(300.0, 0.0, 400.0)),
+        curve("left", along_y(0.0, 400.0, 0.0)),
+    ]
+    .concat();
+    let b = [
+        curve("front", along_x(300.0, 600.0, 0.0)),
+        curve("right", along_y(600.0, 0.0, 400.0)),
+        curve("back", along_x(600.0, 300.0, 400.0)),
+        curve("mid", mid_back),
+    ]
+    .concat();
+    std::fs::write(dir.join("a.toml"), format!("{head}{a}")).unwrap();
+    std::fs::write(dir.join("b.toml"), format!("{head}{b}")).unwrap();
+}
+
+#[test]
+fn wireframes_sharing_a_curve_are_welded_and_a_cut_along_it_makes_the_seam() {
+    let tmp = tempfile::tempdir().unwrap();
+    shared_wire_files(tmp.path());
+    let seeds = "[[piece]]\nname = \"a\"\nseed = [150.0, 200.0, 14.142135623730951]\n\n[[piece]]\nname = \"b\"\nseed = [450.0, 200.0, 14.142135623730951]\n";
+    let head = "schema = 1\nname = \"share\"\n\n[input]\nwireframes = [\"a.toml\", \"b.toml\"]\n\n[export]\nformats = [\"svg\"]\n\n";
+    // Both patches resample the shared curve alike, so cleaning welds them into one surface:
+    // the two seeds then name one piece.
+    let toml = tmp.path().join("one.toml");
+    std::fs::write(&toml, format!("{head}{seeds}")).unwrap();
+    let e = flatcut_pipeline::run(
+        &Pipeline::read(&toml).unwrap(),
+        &RunOptions {
+            out: Some(tmp.path().join("one")),
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("lies in the same piece"), "{e}");
+    // A cut along the shared curve (a straight line, so the geodesic between its ends)
+    // separates them and records the seam.
+    let cut = "[[cut]]\nname = \"mid\"\npoints = [[300.0, 0.0, 20.0], [300.0, 400.0, 20.0]]\n\n";
+    let (out, _) = run_text(&format!("{head}{cut}{seeds}"), tmp.path(), "two");
+    let r = &out.report;
+    assert_eq!(r.pieces.len(), 2);
+    assert_eq!(r.seam_table.len(), 1, "{:?}", r.seam_table);
+    let s = &r.seam_table[0];
+    assert_eq!(
+        (s.id.as_str(), s.a_piece.as_str(), s.b_piece.as_str()),
+        ("mid/0", "a", "b")
+    );
+    // 400 mm long in 3D; both mates the same in 2D (processing keeps the boundary).
+    assert!((s.length_3d_mm - 400.0).abs() <= 1e-9, "{s:?}");
+    assert!(
+        (s.a_2d_mm - 400.0).abs() <= 1e-6 && s.difference_mm.abs() <= 1e-6,
+        "{s:?}"
+    );
+}
+
+#[test]
+fn darts_and_features_give_identical_bytes_on_one_or_two_threads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let toml = tmp.path().join("d.toml");
+    std::fs::write(
+        &toml,
+        dart_cap_toml(10.0, "shrink = { along_grain = -0.05 }"),
+    )
+    .unwrap();
+    let (one, two) = (tmp.path().join("1"), tmp.path().join("2"));
+    run(&toml, &one, Some(1));
+    run(&toml, &two, Some(2));
+    assert_same_outputs(&one, &two, "dart cap: 1 vs 2 threads");
 }

@@ -28,6 +28,36 @@ pub struct PiecePictures {
 /// Gap between pieces on the sheet (mm).
 const SHEET_GAP_MM: f64 = 20.0;
 
+/// Size, fabric, shrink, darts and feature curves of a piece, as " · "-joined text (empty
+/// when the piece has none).
+fn piece_extras(p: &crate::report::PieceReport) -> String {
+    let mut parts = Vec::new();
+    if !p.size.is_empty() {
+        parts.push(format!("size {}", p.size));
+    }
+    if !p.fabric.is_empty() {
+        parts.push(p.fabric.clone());
+    }
+    let (along, across) = (p.pattern.shrink_along_grain, p.pattern.shrink_across_grain);
+    if along != 0.0 || across != 0.0 {
+        parts.push(format!(
+            "shrink {:+.1} % along, {:+.1} % across the grain",
+            100.0 * along,
+            100.0 * across
+        ));
+    }
+    if !p.darts.is_empty() {
+        parts.push(format!("darts {}", p.darts.join(", ")));
+    }
+    for (k, f) in p.features.iter().enumerate() {
+        parts.push(format!(
+            "feature {k}: {:.1} mm, moved ≤ {:.3} mm",
+            f.length_3d_mm, f.max_displacement_mm
+        ));
+    }
+    parts.iter().map(|x| format!(" · {x}")).collect()
+}
+
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -291,14 +321,15 @@ figcaption{{text-align:center;font-size:12px}}.piece{{border-top:1px solid #ccc;
     for (p, pic) in report.pieces.iter().zip(pictures) {
         let _ = writeln!(
             s,
-            "<div class=\"piece\"><h3>{}</h3><p>{} faces · {} boundary loop(s) · cut {}{} · pattern {:.1} × {:.1} mm</p>",
+            "<div class=\"piece\"><h3>{}</h3><p>{} faces · {} boundary loop(s) · cut {}{} · pattern {:.1} × {:.1} mm{}</p>",
             esc(&p.name),
             p.faces,
             p.boundary_loops,
             p.quantity,
             if p.mirror { ", mirrored" } else { "" },
-            p.flatten.size_mm[0],
-            p.flatten.size_mm[1]
+            p.pattern.size_mm[0],
+            p.pattern.size_mm[1],
+            esc(&piece_extras(p))
         );
         let _ = write!(
             s,

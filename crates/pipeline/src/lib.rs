@@ -10,6 +10,7 @@
 
 mod error;
 pub mod export;
+pub mod features;
 pub mod html;
 pub mod output;
 pub mod pieces;

@@ -21,6 +21,10 @@ pub struct PieceMesh {
     pub source_vertex: Vec<u32>,
     /// For each piece face, the face of the cleaned surface.
     pub source_face: Vec<u32>,
+    /// Names of the darts cut into the piece (empty until [`crate::pieces`]' darts stage).
+    pub darts: Vec<String>,
+    /// Feature curves as vertex chains of `mesh` (after darts).
+    pub features: Vec<Vec<u32>>,
 }
 
 /// A component (or cut piece) that no seed named, reported and left out.
@@ -55,6 +59,8 @@ pub fn split(
             mesh: m,
             source_vertex,
             source_face: faces.to_vec(),
+            darts: Vec::new(),
+            features: Vec::new(),
         }
     };
     if p.spec.pieces.is_empty() {
@@ -151,6 +157,8 @@ pub fn cut(
             source_vertex: Vec::new(),
             source_face: tp.face_source,
             mesh: tp.mesh,
+            darts: Vec::new(),
+            features: Vec::new(),
         })
         .collect();
     let dropped = trimmed
@@ -185,4 +193,174 @@ fn locate_trim_error(p: &Pipeline, e: flatcut_trim::TrimError) -> PipelineError 
         (p.spec.cuts.first().map_or(0..0, |c| c.span()), "cut")
     };
     p.invalid(span, key, msg)
+}
+
+/// Cuts the `[[piece]]`'s darts into `piece` (flatcut_dart, points in `units_to_mm` units)
+/// and places its feature curves on the darted piece. Returns the darted result, if any, for
+/// the seam ledger. Errors are located at the dart or feature curve they concern.
+pub fn darts_and_features(
+    p: &Pipeline,
+    piece: &mut PieceMesh,
+    units_to_mm: f64,
+    seam_vertices: &std::collections::BTreeSet<u32>,
+) -> Result<Option<flatcut_dart::Darted>, PipelineError> {
+    let Some(ps) = piece.spec.map(|i| p.spec.pieces[i].get_ref()) else {
+        return Ok(None);
+    };
+    let mut darted = None;
+    if !ps.darts.is_empty() {
+        let specs: Vec<flatcut_dart::DartSpec> = ps
+            .darts
+            .iter()
+            .map(|d| {
+                let mut d = d.get_ref().clone();
+                d.from = d.from.map(|c| c * units_to_mm);
+                d.tip = d.tip.map(|t| t.map(|c| c * units_to_mm));
+                if let Some(v) = snap_to_seam_vertex(
+                    &piece.mesh,
+                    d.from,
+                    seam_vertices,
+                    p.spec.dart.boundary_tolerance_mm,
+                ) {
+                    d.from = v;
+                }
+                d
+            })
+            .collect();
+        let d = flatcut_dart::dart(&piece.mesh, &specs, &p.spec.dart)
+            .map_err(|e| dart_error(p, ps, e))?;
+        piece.mesh = d.mesh.clone();
+        piece.darts = d.darts.iter().map(|l| l.name.clone()).collect();
+        // The darted piece has new vertices; the map back to the cleaned surface's vertices
+        // no longer applies (faces keep theirs through the dart's face provenance).
+        piece.source_vertex = Vec::new();
+        piece.source_face = d
+            .face_source
+            .iter()
+            .map(|&f| piece.source_face.get(f as usize).copied().unwrap_or(f))
+            .collect();
+        darted = Some(d);
+    }
+    if !ps.features.is_empty() {
+        let bvh = Bvh::build(&piece.mesh);
+        for (k, f) in ps.features.iter().enumerate() {
+            let pts: Vec<[f64; 3]> = f
+                .get_ref()
+                .iter()
+                .map(|x| x.map(|c| c * units_to_mm))
+                .collect();
+            let chain = crate::features::feature_chain(&piece.mesh, &bvh, &pts, SEED_TOLERANCE_MM)
+                .map_err(|e| {
+                    let message = match e {
+                        crate::features::FeatureError::OffPiece {
+                            landmark,
+                            distance_mm,
+                        } => format!(
+                            "piece {:?}: landmark {landmark} of feature curve {k} is {distance_mm:.3} mm from the piece (at most {SEED_TOLERANCE_MM} mm allowed); put it on this piece (coordinates in the file's units)",
+                            ps.name.get_ref()
+                        ),
+                        crate::features::FeatureError::NoPath { landmark } => format!(
+                            "piece {:?}: no path on the piece joins landmarks {} and {landmark} of feature curve {k}",
+                            ps.name.get_ref(),
+                            landmark - 1
+                        ),
+                    };
+                    p.invalid(f.span(), "piece.features", message)
+                })?;
+            piece.features.push(chain);
+        }
+    }
+    Ok(darted)
+}
+
+/// A dart that starts on a seam must start at one of the seam's vertices: a start inside a
+/// seam edge would need the same new vertex on the seam's mate in another piece. When the
+/// boundary edge closest to `from` (within `tolerance_mm`, else the dart crate reports the
+/// start off the boundary) has both ends on seams, the start moves to its nearer end — at
+/// most half an edge.
+fn snap_to_seam_vertex(
+    mesh: &TriMesh,
+    from: [f64; 3],
+    seam_vertices: &std::collections::BTreeSet<u32>,
+    tolerance_mm: f64,
+) -> Option<[f64; 3]> {
+    use flatcut_mesh::vec3;
+    if seam_vertices.is_empty() {
+        return None;
+    }
+    let topo = Topology::build(mesh).ok()?;
+    let mut best: Option<(f64, u32, u32)> = None;
+    for lp in topo.boundary_loops() {
+        for (k, a) in lp.iter().enumerate() {
+            let b = lp[(k + 1) % lp.len()];
+            let (pa, pb) = (mesh.positions[a.idx()], mesh.positions[b.idx()]);
+            let ab = vec3::sub(pb, pa);
+            let l2 = vec3::norm2(ab);
+            let t = if l2 > 0.0 {
+                (vec3::dot(vec3::sub(from, pa), ab) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let d = vec3::dist(from, vec3::add(pa, vec3::scale(ab, t)));
+            if best.is_none_or(|(bd, _, _)| d < bd) {
+                best = Some((d, a.0, b.0));
+            }
+        }
+    }
+    let (d, a, b) = best?;
+    if d > tolerance_mm || !(seam_vertices.contains(&a) && seam_vertices.contains(&b)) {
+        return None;
+    }
+    let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);
+    Some(if vec3::dist(from, pa) <= vec3::dist(from, pb) {
+        pa
+    } else {
+        pb
+    })
+}
+
+/// Index in the piece's `darts` of the dart a [`flatcut_dart::DartError`] is about.
+fn dart_index(ps: &crate::spec::PieceSpec, e: &flatcut_dart::DartError) -> Option<usize> {
+    use flatcut_dart::DartError as E;
+    match e {
+        E::BadSpec { index, .. }
+        | E::StartOffBoundary { index, .. }
+        | E::TipOffPiece { index, .. }
+        | E::TipOnBoundary { index, .. }
+        | E::TouchesBoundary { index, .. }
+        | E::TooLong { index, .. }
+        | E::DirectionOutward { index, .. }
+        | E::NoPath { index, .. } => Some(*index),
+        E::Crossing { b, .. } => Some(*b),
+        E::DuplicateName { second, .. } => Some(*second),
+        E::StartSplitsSeam { name, .. } | E::DuplicateSeam { seam: name } => {
+            ps.darts.iter().enumerate().position(|(i, d)| {
+                let n = &d.get_ref().name;
+                let n = if n.is_empty() {
+                    format!("dart-{}", i + 1)
+                } else {
+                    n.clone()
+                };
+                *name == n || *name == flatcut_dart::dart_seam_id(&n)
+            })
+        }
+        _ => None,
+    }
+}
+
+/// A dart error located at its dart in the TOML (else at the piece's first dart).
+pub fn dart_error(
+    p: &Pipeline,
+    ps: &crate::spec::PieceSpec,
+    e: flatcut_dart::DartError,
+) -> PipelineError {
+    let span = dart_index(ps, &e)
+        .and_then(|i| ps.darts.get(i))
+        .or(ps.darts.first())
+        .map_or(ps.name.span(), |d| d.span());
+    p.invalid(
+        span,
+        "piece.darts",
+        format!("piece {:?}: {e}", ps.name.get_ref()),
+    )
 }

@@ -111,10 +111,45 @@ pub struct PieceReport {
     pub quantity: u32,
     /// Cut as a mirrored pair.
     pub mirror: bool,
+    /// Size label (`[[piece]].size`, may be empty).
+    pub size: String,
+    /// Fabric (`[[piece]].fabric`, may be empty).
+    pub fabric: String,
+    /// Darts cut into the piece, by name (their seams are in `seam_table`, kind `dart`).
+    pub darts: Vec<String>,
+    /// Feature curves: their vertices and how far processing moved them.
+    pub features: Vec<FeatureSummary>,
     /// Flattenable processing.
     pub process: ProcessSummary,
     /// Flattening and its distortion.
     pub flatten: FlattenSummary,
+    /// The pattern piece: shrink applied and its size.
+    pub pattern: PatternSummary,
+}
+
+/// A feature curve of a piece.
+#[derive(Clone, Debug, Serialize)]
+pub struct FeatureSummary {
+    /// Its vertex chain on the (darted) piece.
+    pub vertices: Vec<u32>,
+    /// Length of the chain on the input piece (mm).
+    pub length_3d_mm: f64,
+    /// Largest displacement of its vertices by processing (mm).
+    pub max_displacement_mm: f64,
+    /// RMS displacement of its vertices by processing (mm).
+    pub rms_displacement_mm: f64,
+}
+
+/// What the pattern stage made of a piece.
+#[derive(Clone, Debug, Serialize)]
+pub struct PatternSummary {
+    /// Shrink along the grain applied (fraction).
+    pub shrink_along_grain: f64,
+    /// Shrink across the grain applied (fraction).
+    pub shrink_across_grain: f64,
+    /// Width (across the grain, x) and height (along the grain, y) of the piece inside its
+    /// sew line, after grain rotation and shrink (mm).
+    pub size_mm: [f64; 2],
 }
 
 /// What processing did to a piece.

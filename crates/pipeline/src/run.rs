@@ -2,8 +2,8 @@
 //! output folder is touched (so a failing stage leaves no folder behind), then written with
 //! the report last.
 //!
-//! Stages: input (read or generate), clean, pieces, process (per piece), flatten (per piece),
-//! outputs. Results do not depend on the thread count: pieces are independent, collected in
+//! Stages: input (read, generate or span wire-frames), clean, remesh (optional), pieces, darts
+//! and feature curves (per piece), process (per piece), flatten (per piece), outputs. Results do not depend on the thread count: pieces are independent, collected in
 //! order, and each stage's algorithm is itself thread-count independent.
 
 use std::collections::BTreeMap;
@@ -22,8 +22,8 @@ use crate::pieces::{PieceMesh, cut, split};
 use crate::progress::Progress;
 use crate::render::{Frame, VIEWS, render_2d, render_3d};
 use crate::report::{
-    FileHash, FlattenSummary, InputHash, MeshCounts, OutputFile, PieceReport, ProcessSummary,
-    Report, StageTime, Timings, sha256_hex, to_json,
+    FeatureSummary, FileHash, FlattenSummary, InputHash, MeshCounts, OutputFile, PatternSummary,
+    PieceReport, ProcessSummary, Report, StageTime, Timings, sha256_hex, to_json,
 };
 use crate::seams::seam_table;
 use crate::spec::{Generator, Pipeline, SCHEMA};
@@ -76,6 +76,13 @@ pub fn input_paths(p: &Pipeline) -> Vec<PathBuf> {
     {
         v.push(m);
     }
+    if let Some(ws) = &p.spec.input.get_ref().wireframes {
+        v.extend(
+            ws.get_ref()
+                .iter()
+                .filter_map(|w| p.expand(w, "input.wireframes").ok()),
+        );
+    }
     v
 }
 
@@ -127,6 +134,8 @@ struct Loaded {
     inputs: Vec<InputHash>,
     generator: Option<serde_json::Value>,
     units: Units,
+    /// Warnings of the input stage (e.g. a wire-frame patch below its angle goal).
+    warnings: Vec<String>,
 }
 
 fn load_input(p: &Pipeline) -> Result<Loaded, PipelineError> {
@@ -163,6 +172,7 @@ fn load_input(p: &Pipeline) -> Result<Loaded, PipelineError> {
             }],
             generator: None,
             units,
+            warnings: Vec::new(),
         })
     } else if let Some(g) = &input.generator {
         let bad = |message: String| p.invalid(g.span(), "input.generator", message);
@@ -206,15 +216,89 @@ fn load_input(p: &Pipeline) -> Result<Loaded, PipelineError> {
             inputs: Vec::new(),
             generator: Some(generator),
             units: p.spec.units.unwrap_or(Units::Mm),
+            warnings: Vec::new(),
         })
+    } else if let Some(ws) = &input.wireframes {
+        load_wireframes(p, ws.get_ref())
     } else {
-        // `Pipeline::parse` guarantees one of the two.
+        // `Pipeline::parse` guarantees one of the three.
         Err(p.invalid(
             p.spec.input.span(),
             "input",
             "[input] needs `mesh` or `generator`".into(),
         ))
     }
+}
+
+/// `[input] wireframes`: each file a surface patch (in mm, from the file's own `units`), all
+/// in one mesh whose connected components are the patches, in file order.
+fn load_wireframes(
+    p: &Pipeline,
+    files: &[toml::Spanned<PathBuf>],
+) -> Result<Loaded, PipelineError> {
+    use flatcut_trim::wireframe::{WireFrame, wireframe_surface};
+    let mut mesh = TriMesh::default();
+    let mut inputs = Vec::with_capacity(files.len());
+    let mut warnings = Vec::new();
+    for w in files {
+        let bad = |message: String| p.invalid(w.span(), "input.wireframes", message);
+        let path = p.expand(w, "input.wireframes")?;
+        let bytes = std::fs::read(&path).map_err(|e| {
+            bad(format!(
+                "cannot read the wire-frame {}: {e}",
+                path.display()
+            ))
+        })?;
+        let text = String::from_utf8(bytes.clone()).map_err(|_| {
+            bad(format!(
+                "the wire-frame {} is not UTF-8 text (a WIRE.toml file)",
+                path.display()
+            ))
+        })?;
+        let wire: WireFrame = toml::from_str(&text).map_err(|e| {
+            let (line, column) = e
+                .span()
+                .map_or((0, 0), |s| crate::spec::line_col(&text, s.start));
+            bad(format!(
+                "{}:{line}:{column}: {}",
+                path.display(),
+                e.message().trim()
+            ))
+        })?;
+        let units: Units = wire.units.parse().map_err(|_| {
+            bad(format!(
+                "{}: units = {:?} is not one of mm, cm, dm, m, in",
+                path.display(),
+                wire.units
+            ))
+        })?;
+        let patch = wireframe_surface(&wire.scaled(units.factor_to_mm()), &wire.options)
+            .map_err(|e| bad(format!("{}: {e}", path.display())))?;
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend_from_slice(&patch.mesh.positions);
+        mesh.faces
+            .extend(patch.mesh.faces.iter().map(|f| f.map(|v| v + base)));
+        warnings.extend(
+            patch
+                .report
+                .warnings
+                .iter()
+                .map(|x| format!("wire-frame {}: {x}", w.get_ref().display())),
+        );
+        inputs.push(InputHash {
+            key: "input.wireframes".into(),
+            path: w.get_ref().display().to_string(),
+            sha256: sha256_hex(&bytes),
+            bytes: bytes.len() as u64,
+        });
+    }
+    Ok(Loaded {
+        mesh,
+        inputs,
+        generator: None,
+        units: p.spec.units.unwrap_or(Units::Mm),
+        warnings,
+    })
 }
 
 /// Options that address vertices of one mesh cannot follow a mesh that the pipeline cuts
@@ -275,7 +359,16 @@ struct ProcessedPiece {
 
 fn process_piece(p: &Pipeline, piece: &PieceMesh) -> Result<ProcessedPiece, PipelineError> {
     let start = Instant::now();
-    let (processed, converged) = match flatcut_flattenable::process(&piece.mesh, &p.spec.process) {
+    let features_opts;
+    let opts = if piece.features.is_empty() {
+        &p.spec.process
+    } else {
+        let mut o = p.spec.process.clone();
+        o.feature_curves = piece.features.clone();
+        features_opts = o;
+        &features_opts
+    };
+    let (processed, converged) = match flatcut_flattenable::process(&piece.mesh, opts) {
         Ok(r) => (r, true),
         // The best unfolded state is still the most flattenable surface we have: carry on
         // with it, mark the piece and warn.
@@ -424,7 +517,7 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
 
     let t = Instant::now();
     let bar = progress.stage("pieces", 0);
-    let (pieces, dropped, seams) = if p.spec.cuts.is_empty() {
+    let (mut pieces, dropped, mut seams) = if p.spec.cuts.is_empty() {
         let topo = Topology::build(&mesh).map_err(|source| PipelineError::Clean {
             file: p.source.clone(),
             source: Box::new(source),
@@ -438,6 +531,42 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     };
     bar.finish();
     stage_done(&mut timings, "pieces", t);
+
+    // Darts and feature curves, per piece in parallel; dart seams join the ledger in piece
+    // order.
+    let t = Instant::now();
+    let bar = progress.stage("darts", pieces.len() as u64);
+    let units_to_mm = loaded.units.factor_to_mm();
+    // Per piece, the vertices of its seams (a dart starting on a seam starts at one of them).
+    let mut seam_vertices: BTreeMap<&str, std::collections::BTreeSet<u32>> = BTreeMap::new();
+    for s in &seams.seams {
+        for side in [&s.a, &s.b] {
+            seam_vertices
+                .entry(side.piece.as_str())
+                .or_default()
+                .extend(side.vertices.iter().copied());
+        }
+    }
+    let no_seams = std::collections::BTreeSet::new();
+    let darted: Vec<Option<flatcut_dart::Darted>> = pieces
+        .par_iter_mut()
+        .map(|piece| {
+            let sv = seam_vertices.get(piece.name.as_str()).unwrap_or(&no_seams);
+            let r = crate::pieces::darts_and_features(p, piece, units_to_mm, sv);
+            bar.inc(1);
+            r
+        })
+        .collect::<Result<_, _>>()?;
+    drop(seam_vertices);
+    for (piece, d) in pieces.iter().zip(&darted) {
+        if let (Some(d), Some(i)) = (d, piece.spec) {
+            flatcut_dart::append_dart_seams(&mut seams, &piece.name, d)
+                .map_err(|e| crate::pieces::dart_error(p, p.spec.pieces[i].get_ref(), e))?;
+        }
+    }
+    drop(darted);
+    bar.finish();
+    stage_done(&mut timings, "darts", t);
 
     let t = Instant::now();
     let bar = progress.stage("process", pieces.len() as u64);
@@ -474,7 +603,7 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     let t = Instant::now();
     let bar = progress.stage("outputs", 0);
     let mut files = BTreeMap::new();
-    let mut warnings = Vec::new();
+    let mut warnings = loaded.warnings.clone();
     if p.spec.export.wants(crate::export::ExportFormat::Glb) {
         files.insert(
             "processed.glb".to_string(),
@@ -519,12 +648,8 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
                 name: piece.name.clone(),
                 mesh: pr.processed.mesh.clone(),
                 uv: f.uv.clone(),
-                meta: flatcut_pattern::PieceMeta {
-                    quantity: spec.map_or(1, |s| s.quantity),
-                    mirror: spec.is_some_and(|s| s.mirror),
-                    ..Default::default()
-                },
-                internal_lines: Vec::new(),
+                meta: piece_meta(spec),
+                internal_lines: piece.features.clone(),
                 e_h: f.e_h.clone(),
                 e_r: f.e_r.clone(),
                 edge_strain: f.edge_strain.clone(),
@@ -539,6 +664,7 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         &p.spec.export,
     )?;
     files.extend(exported.files);
+    let pattern_pieces = exported.pieces;
     let uv_by_name: BTreeMap<String, &[[f64; 2]]> = pieces
         .iter()
         .zip(&flat)
@@ -552,7 +678,12 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
     }
 
     let mut piece_reports = Vec::with_capacity(pieces.len());
-    for ((piece, pr), (ftopo, f)) in pieces.iter().zip(&processed).zip(&flat) {
+    for (((piece, pr), (ftopo, f)), pat) in pieces
+        .iter()
+        .zip(&processed)
+        .zip(&flat)
+        .zip(&pattern_pieces)
+    {
         let r = pr.processed.report.pieces.first();
         let spec = piece.spec.map(|i| p.spec.pieces[i].get_ref());
         if !pr.converged {
@@ -577,6 +708,14 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
             euler_characteristic: ftopo.euler_characteristic(),
             quantity: spec.map_or(1, |s| s.quantity),
             mirror: spec.is_some_and(|s| s.mirror),
+            size: spec.map(|s| s.size.clone()).unwrap_or_default(),
+            fabric: spec.map(|s| s.fabric.clone()).unwrap_or_default(),
+            darts: piece.darts.clone(),
+            features: piece
+                .features
+                .iter()
+                .map(|c| feature_summary(c, &piece.mesh, &pr.processed.mesh))
+                .collect(),
             process: ProcessSummary {
                 converged: pr.converged,
                 iterations: r.map_or(0, |r| r.iterations),
@@ -590,6 +729,11 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
                 theta_err_history: r.map(|r| r.theta_err.clone()).unwrap_or_default(),
             },
             flatten: f.summary.clone(),
+            pattern: PatternSummary {
+                shrink_along_grain: pat.shrink.along_grain,
+                shrink_across_grain: pat.shrink.across_grain,
+                size_mm: extent(&pat.sew_line),
+            },
         });
         let mut per = BTreeMap::new();
         per.insert("process".to_string(), pr.seconds);
@@ -652,6 +796,61 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         report,
         timings,
     })
+}
+
+/// The pattern stage's description of a piece from its `[[piece]]` entry.
+fn piece_meta(spec: Option<&crate::spec::PieceSpec>) -> flatcut_pattern::PieceMeta {
+    let Some(s) = spec else {
+        return flatcut_pattern::PieceMeta::default();
+    };
+    let (along, across) = s
+        .shrink
+        .as_ref()
+        .map_or((0.0, 0.0), |sh| sh.get_ref().values());
+    flatcut_pattern::PieceMeta {
+        size: s.size.clone(),
+        quantity: s.quantity,
+        mirror: s.mirror,
+        fabric: s.fabric.clone(),
+        // The flattening already placed the grain along +y (`flatten.placement.grain`).
+        grain_3d: None,
+        shrink_along_grain: along,
+        shrink_across_grain: across,
+    }
+}
+
+/// Width and height of the bounding box of `pts`.
+fn extent(pts: &[[f64; 2]]) -> [f64; 2] {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for q in pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    if pts.is_empty() {
+        [0.0; 2]
+    } else {
+        [hi[0] - lo[0], hi[1] - lo[1]]
+    }
+}
+
+/// A feature curve's length and how far processing moved its vertices.
+fn feature_summary(chain: &[u32], before: &TriMesh, after: &TriMesh) -> FeatureSummary {
+    let p = |m: &TriMesh, v: u32| m.positions[v as usize];
+    let d: Vec<f64> = chain
+        .iter()
+        .map(|&v| flatcut_mesh::vec3::dist(p(before, v), p(after, v)))
+        .collect();
+    FeatureSummary {
+        vertices: chain.to_vec(),
+        length_3d_mm: chain
+            .windows(2)
+            .map(|w| flatcut_mesh::vec3::dist(p(before, w[0]), p(before, w[1])))
+            .sum(),
+        max_displacement_mm: d.iter().copied().fold(0.0, f64::max),
+        rms_displacement_mm: (d.iter().map(|x| x * x).sum::<f64>() / d.len().max(1) as f64).sqrt(),
+    }
 }
 
 /// |θ − 2π| per vertex (0 on the boundary).

@@ -47,6 +47,10 @@ pub struct PipelineSpec {
     /// Cutting options ([`flatcut_trim::TrimOptions`], `[trim]`).
     #[serde(default)]
     pub trim: flatcut_trim::TrimOptions,
+    /// Dart options ([`flatcut_dart::DartOptions`], `[dart]`: `boundary_tolerance_mm`,
+    /// `tip_tolerance_mm`), for every piece's `darts`.
+    #[serde(default)]
+    pub dart: flatcut_dart::DartOptions,
     /// Flattenable processing ([`flatcut_flattenable::ProcessOptions`]).
     #[serde(default)]
     pub process: ProcessOptions,
@@ -64,7 +68,7 @@ pub struct PipelineSpec {
     pub export: crate::export::ExportSpec,
 }
 
-/// `[input]`: a mesh file or a generated surface, then cleaning.
+/// `[input]`: a mesh file, a generated surface or wire-frame surfaces, then cleaning.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InputSpec {
@@ -74,6 +78,11 @@ pub struct InputSpec {
     /// A generated surface instead of a file.
     #[serde(default)]
     pub generator: Option<Spanned<Generator>>,
+    /// Wire-frame files (WIRE.toml, as `flatcut surface` reads; each with its own `units`),
+    /// relative to the pipeline file: each becomes a surface patch
+    /// ([`flatcut_trim::wireframe_surface`]), one connected component of the input.
+    #[serde(default)]
+    pub wireframes: Option<Spanned<Vec<Spanned<PathBuf>>>>,
     /// Cleaning ([`flatcut_mesh::clean::CleanOptions`]); default: weld exact duplicates, drop
     /// degenerate and duplicate faces, orient, keep every component.
     #[serde(default)]
@@ -160,6 +169,45 @@ pub struct PieceSpec {
     /// Default `[flatten.placement].grain`, else the piece's principal axis.
     #[serde(default)]
     pub grain: Option<Spanned<[f64; 3]>>,
+    /// Material shrink (`{ along_grain, across_grain }`, fractions; −0.05 makes the pattern
+    /// 5 % smaller, the negative ease of neoprene). Default none (0, 0).
+    #[serde(default)]
+    pub shrink: Option<Spanned<Shrink>>,
+    /// Darts (`[{ from = [x, y, z], tip = [x, y, z] }]`, optionally `name`, or `direction`
+    /// and `length_mm` instead of `tip`; [`flatcut_dart::DartSpec`], points in `units`): cut
+    /// into the piece before processing. Default none.
+    #[serde(default)]
+    pub darts: Vec<Spanned<flatcut_dart::DartSpec>>,
+    /// Feature curves (`[[[x, y, z], …], …]`, landmarks in `units` on the piece): each joined
+    /// by the shortest edge path between its landmarks, weighted by `[process].feature_weight`
+    /// in processing (moved less) and drawn as internal lines. Default none.
+    #[serde(default)]
+    pub features: Vec<Spanned<Vec<[f64; 3]>>>,
+    /// Size label, e.g. "38" (default empty).
+    #[serde(default)]
+    pub size: String,
+    /// Fabric or material name, e.g. "leather" (default empty).
+    #[serde(default)]
+    pub fabric: String,
+}
+
+/// `shrink = { along_grain, across_grain }` of a `[[piece]]`: fractions, each with
+/// |value| < [`flatcut_pattern::MAX_SHRINK`] (0.5).
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Shrink {
+    /// Along the grain (default 0).
+    pub along_grain: Option<Spanned<f64>>,
+    /// Across the grain (default 0).
+    pub across_grain: Option<Spanned<f64>>,
+}
+
+impl Shrink {
+    /// (along, across) as fractions.
+    pub fn values(&self) -> (f64, f64) {
+        let v = |x: &Option<Spanned<f64>>| x.as_ref().map_or(0.0, |s| *s.get_ref());
+        (v(&self.along_grain), v(&self.across_grain))
+    }
 }
 
 fn one() -> u32 {
@@ -255,22 +303,39 @@ impl Pipeline {
         }
         check_name(self, &s.name, "name")?;
         let input = s.input.get_ref();
-        match (&input.mesh, &input.generator) {
-            (Some(_), Some(g)) => {
-                return Err(self.invalid(
-                    g.span(),
-                    "input.generator",
-                    "give either `mesh` or `generator` in [input], not both".into(),
-                ));
-            }
-            (None, None) => {
+        let sources: Vec<(&str, std::ops::Range<usize>)> = [
+            input.mesh.as_ref().map(|m| ("mesh", m.span())),
+            input.generator.as_ref().map(|g| ("generator", g.span())),
+            input.wireframes.as_ref().map(|w| ("wireframes", w.span())),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        match sources.as_slice() {
+            [] => {
                 return Err(self.invalid(
                     s.input.span(),
                     "input",
-                    "[input] needs `mesh = \"file.obj\"` (OBJ, PLY, STL, glTF, GLB) or `generator = { kind = \"dress-form\", … }`".into(),
+                    "[input] needs `mesh = \"file.obj\"` (OBJ, PLY, STL, glTF, GLB), `generator = { kind = \"dress-form\", … }` or `wireframes = [\"seat.toml\", …]`".into(),
                 ));
             }
-            _ => {}
+            [_] => {}
+            [(first, _), (second, span), ..] => {
+                return Err(self.invalid(
+                    span.clone(),
+                    &format!("input.{second}"),
+                    format!("give one of `mesh`, `generator` or `wireframes` in [input], not both `{first}` and `{second}`"),
+                ));
+            }
+        }
+        if let Some(w) = &input.wireframes
+            && w.get_ref().is_empty()
+        {
+            return Err(self.invalid(
+                w.span(),
+                "input.wireframes",
+                "give at least one wire-frame file".into(),
+            ));
         }
         let mut names = std::collections::BTreeMap::new();
         for p in &s.pieces {
@@ -301,6 +366,17 @@ impl Pipeline {
                     "quantity must be at least 1".into(),
                 ));
             }
+            if p.mirror && p.quantity % 2 != 0 {
+                return Err(self.invalid(
+                    p.name.span(),
+                    "piece.quantity",
+                    format!(
+                        "piece {:?} has mirror = true and quantity = {}: mirrored pieces are cut in left/right pairs, give an even quantity (2 for one pair)",
+                        p.name.get_ref(),
+                        p.quantity
+                    ),
+                ));
+            }
             if let Some(g) = &p.grain {
                 let v = g.get_ref();
                 if !(v.iter().all(|c| c.is_finite()) && v.iter().any(|c| *c != 0.0)) {
@@ -310,6 +386,57 @@ impl Pipeline {
                         "the grain must be a 3D direction [x, y, z], finite and not zero".into(),
                     ));
                 }
+            }
+            self.check_piece_extras(p)?;
+        }
+        Ok(())
+    }
+
+    /// Shrink ranges, dart and feature numbers of one `[[piece]]`.
+    fn check_piece_extras(&self, p: &PieceSpec) -> Result<(), PipelineError> {
+        let piece = p.name.get_ref();
+        if let Some(sh) = &p.shrink {
+            let sh = sh.get_ref();
+            for (key, v) in [
+                ("along_grain", &sh.along_grain),
+                ("across_grain", &sh.across_grain),
+            ] {
+                let Some(v) = v else { continue };
+                let x = *v.get_ref();
+                if !(x.is_finite() && x.abs() < flatcut_pattern::MAX_SHRINK) {
+                    return Err(self.invalid(
+                        v.span(),
+                        &format!("piece.shrink.{key}"),
+                        format!(
+                            "piece {piece:?}: shrink {key} = {x} is out of range: give a fraction between -{m} and {m} (exclusive), e.g. -0.05 for 5 % shrink",
+                            m = flatcut_pattern::MAX_SHRINK
+                        ),
+                    ));
+                }
+            }
+        }
+        for d in &p.darts {
+            let spec = d.get_ref();
+            let finite = spec.from.iter().all(|c| c.is_finite())
+                && spec.tip.is_none_or(|t| t.iter().all(|c| c.is_finite()));
+            if !finite {
+                return Err(self.invalid(
+                    d.span(),
+                    "piece.darts",
+                    format!("piece {piece:?}: a dart's `from` and `tip` must be finite [x, y, z]"),
+                ));
+            }
+        }
+        for (k, f) in p.features.iter().enumerate() {
+            let pts = f.get_ref();
+            if pts.len() < 2 || pts.iter().flatten().any(|c| !c.is_finite()) {
+                return Err(self.invalid(
+                    f.span(),
+                    "piece.features",
+                    format!(
+                        "piece {piece:?}: feature curve {k} needs at least two finite landmarks [[x, y, z], [x, y, z], …]"
+                    ),
+                ));
             }
         }
         Ok(())
