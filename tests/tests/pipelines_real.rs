@@ -163,3 +163,42 @@ fn mh_body_wetsuit_pipeline_meets_the_done_when() {
     // Head, two hands and two feet are cut off and left out.
     assert_eq!(report["dropped_components"].as_array().unwrap().len(), 5);
 }
+
+#[test]
+fn mh_body_scanlike_wetsuit_pipeline_meets_the_done_when() {
+    let (Some(_), Some(_)) = (data_mesh("mh_body_scanlike.obj"), data_mesh("mh_body.obj")) else {
+        return;
+    };
+    let report = run_report("wetsuit-scan");
+    assert_done_when(&report, &WETSUIT_PIECES);
+    assert_eq!(
+        report["inputs"][0]["path"],
+        "${FLATCUT_DATA}/mh_body_scanlike.obj"
+    );
+    assert_eq!(report["units"], "mm");
+    // Cleaning keeps the body and drops the scan's three debris islands.
+    assert_eq!(report["input_mesh"]["faces"], 147_720);
+    assert_eq!(report["clean"]["dropped_components"], 3);
+    assert_eq!(report["dropped_components"].as_array().unwrap().len(), 5);
+    // The same plan on the template body and on the scan cuts pieces of the same outline:
+    // the scan is the template ×100 (dm → mm) plus noise, remeshed, and processing never
+    // moves a piece's boundary. Their 3D boundary lengths agree to 3 % (measured: the
+    // scan's are 0.4–1.5 % longer, the noise's roughness).
+    let template = run_report("wetsuit-mh");
+    for (s, t) in report["pieces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(template["pieces"].as_array().unwrap())
+    {
+        let (b_scan, b_template) = (
+            f(&s["flatten"]["boundary_3d_mm"]),
+            f(&t["flatten"]["boundary_3d_mm"]),
+        );
+        assert!(
+            (b_scan - b_template).abs() <= 0.03 * b_template,
+            "{}: {b_scan} vs {b_template} mm",
+            s["name"]
+        );
+    }
+}
