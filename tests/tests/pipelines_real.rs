@@ -1,7 +1,8 @@
 //! The real-data pipelines (pipelines/wetsuit-mh.toml, pipelines/wetsuit-scan.toml) meet the
 //! done-when of issue 8, read back from the report.json they write: every piece a disk,
 //! processed to θ_err ≤ 1e-9, flattened with max edge strain ≤ 1e-4 and no folds, and every
-//! seam's two mates equal in 2D length to 0.5 mm.
+//! seam's two mates equal in 2D length to 0.5 mm; and wetsuit-mh writes the same bytes on one
+//! and on two threads.
 //!
 //! The meshes are reached only through FLATCUT_DATA: unset, the tests pass at once; set, a
 //! missing mesh fails them.
@@ -37,22 +38,46 @@ fn pipeline(name: &str) -> PathBuf {
         .join(format!("{name}.toml"))
 }
 
-/// Runs `name` into a temporary folder and returns its report.json, parsed.
-fn run_report(name: &str) -> Value {
+/// Runs `name` into `out` on `threads` worker threads (None: rayon's default).
+fn run_into(name: &str, out: &Path, threads: Option<usize>) {
     let path = pipeline(name);
     let p = Pipeline::read(&path).unwrap_or_else(|e| panic!("{e}"));
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join(name);
     flatcut_pipeline::run(
         &p,
         &RunOptions {
-            out: Some(out.clone()),
+            out: Some(out.to_path_buf()),
+            threads,
             quiet: true,
             ..Default::default()
         },
     )
     .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+}
+
+/// Runs `name` into a temporary folder and returns its report.json, parsed.
+fn run_report(name: &str) -> Value {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join(name);
+    run_into(name, &out, None);
     serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap()
+}
+
+/// Every file under `dir` but timings.json, by relative path, with its bytes.
+fn folder(dir: &Path) -> std::collections::BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if !p.ends_with("timings.json") {
+                let bytes = std::fs::read(&p).unwrap();
+                out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), bytes);
+            }
+        }
+    }
+    out
 }
 
 fn f(v: &Value) -> f64 {
@@ -199,6 +224,33 @@ fn mh_body_scanlike_wetsuit_pipeline_meets_the_done_when() {
             (b_scan - b_template).abs() <= 0.03 * b_template,
             "{}: {b_scan} vs {b_template} mm",
             s["name"]
+        );
+    }
+}
+
+#[test]
+fn mh_body_wetsuit_pipeline_gives_the_same_bytes_on_one_and_two_threads() {
+    let Some(_) = data_mesh("mh_body.obj") else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let (one, two) = (tmp.path().join("one"), tmp.path().join("two"));
+    run_into("wetsuit-mh", &one, Some(1));
+    run_into("wetsuit-mh", &two, Some(2));
+    let (a, b) = (folder(&one), folder(&two));
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    // A whole folder: every piece's pattern files are there (so this compares real bytes).
+    for name in WETSUIT_PIECES {
+        for ext in ["obj", "svg", "png", "exr", "dxf"] {
+            let f = PathBuf::from(format!("pieces/{name}.{ext}"));
+            assert!(a.contains_key(&f), "{} missing", f.display());
+        }
+    }
+    for (k, v) in &a {
+        assert!(
+            v == &b[k],
+            "{} differs between 1 and 2 threads",
+            k.display()
         );
     }
 }
