@@ -149,11 +149,6 @@ fn every_bundled_pipeline_runs_and_its_report_describes_the_folder() {
             html.matches("src=\"data:image/png;base64,").count(),
             7 * pieces
         );
-        assert_eq!(
-            html.matches("http").count(),
-            html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count(),
-            "report.html must not reference the network"
-        );
         // No non-finite number in the text (the base64 pictures left out: they may hold any
         // letters).
         let text: String = html
@@ -167,6 +162,13 @@ fn every_bundled_pipeline_runs_and_its_report_describes_the_folder() {
                 }
             })
             .collect();
+        // (Checked on the text: base64 pictures can spell "http" by chance, as one of
+        // wetsuit-mh's did.)
+        assert_eq!(
+            text.matches("http").count(),
+            text.matches("xmlns=\"http://www.w3.org/2000/svg\"").count(),
+            "report.html must not reference the network"
+        );
         assert!(
             !text.contains("NaN") && !text.contains("inf"),
             "{}",
