@@ -76,3 +76,68 @@ fn gradient_of_flat_vertex_has_no_normal_component() {
         assert!(g[2].abs() < 1e-14);
     }
 }
+
+/// The one-`atan2`-per-vertex angle sum equals the sum of per-corner `atan2`s on fans of
+/// valence 3 to 40, flat, cone-like (θ ≪ 2π) and saddle-like (θ ≫ 2π, several turns), and
+/// is `None` for a zero-length edge.
+#[test]
+fn angle_sum_product_matches_summed_atan2() {
+    use flatcut_flattenable::angle_gradient::AngleSum;
+    use flatcut_mesh::vec3::{angle, cross, dot, norm, sub};
+    let mut worst: f64 = 0.0;
+    let mut seed = 12345u64;
+    let mut rnd = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+    };
+    let mut max_theta: f64 = 0.0;
+    let mut min_theta = f64::INFINITY;
+    for valence in 3..=40usize {
+        for (height, wave, turns) in [
+            (0.0, 0.0, 1.0),
+            (0.8, 0.0, 1.0),
+            (3.0, 0.0, 1.0),
+            (0.0, 0.9, 1.0),
+            (0.0, 2.5, 1.0),
+            (0.0, 0.3, 2.0),
+        ] {
+            let centre = [0.0, 0.0, height];
+            let ring: Vec<[f64; 3]> = (0..valence)
+                .map(|k| {
+                    let t =
+                        turns * std::f64::consts::TAU * (k as f64 + 0.2 * rnd()) / valence as f64;
+                    let z = wave * (2.0 * t).sin();
+                    [
+                        t.cos() * (1.0 + 0.3 * rnd()),
+                        t.sin() * (1.0 + 0.3 * rnd()),
+                        z,
+                    ]
+                })
+                .collect();
+            let mut sum = AngleSum::default();
+            let mut exact = 0.0;
+            for k in 0..valence {
+                let u = sub(ring[k], centre);
+                let w = sub(ring[(k + 1) % valence], centre);
+                sum.add(dot(u, w), norm(cross(u, w)));
+                exact += angle(u, w);
+            }
+            let got = sum.finish().unwrap();
+            worst = worst.max((got - exact).abs() / exact);
+            max_theta = max_theta.max(exact);
+            min_theta = min_theta.min(exact);
+        }
+    }
+    // The cases span well below and well above 2π (a double cover gives ~4π).
+    assert!(
+        min_theta < 2.0 && max_theta > 12.0,
+        "{min_theta} {max_theta}"
+    );
+    assert!(worst < 1e-14, "relative difference {worst:e}");
+    let mut degenerate = AngleSum::default();
+    degenerate.add(1.0, 0.5);
+    degenerate.add(0.0, 0.0);
+    assert!(degenerate.finish().is_none());
+}
