@@ -547,7 +547,7 @@ fn speed() {
             let (r, ok) = rep.unwrap();
             let p = &r.pieces[0];
             println!(
-                "{} faces {:?}: {ok} it={} rej={} fact={} pb={} err={:.1e} area={:+.3}% rmsd={:.4} | wall {:.1} ms, CPU {:.1} ms = {:.1} Cholesky ({:.3} ms); per factorisation {:.2}x",
+                "{} faces {:?}: {ok} it={} rej={} fact={} pb={} err={:.1e} area={:+.3}% rmsd={:.4} | wall {:.1} ms, CPU {:.1} ms = {:.1} Cholesky ({:.3} ms); per factorisation {:.2}x; stop: {}",
                 p.faces,
                 target,
                 p.iterations,
@@ -562,6 +562,7 @@ fn speed() {
                 best_cpu / chol,
                 chol * 1e3,
                 best_cpu / chol / p.factorizations.max(1) as f64,
+                p.stop_reason,
             );
         }
     }

@@ -27,9 +27,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use flatcut_mesh::{INVALID, Topology, VertexId};
 
-use flatcut_mesh::vec3::{angle, cross, dot, norm, sub};
-
-use crate::angle_gradient::{AngleSum, corner_terms};
+use crate::angle_gradient::corner_angle_gradient;
 
 /// Per-piece sparse structure of A and A G Aᵀ with its symbolic factorisation.
 pub struct Layout {
@@ -287,17 +285,17 @@ impl Layout {
     ) {
         grad.iter_mut().for_each(|g| *g = [0.0; 3]);
         for (i, &p) in self.interior.iter().enumerate() {
-            let mut sum = AngleSum::default();
+            let mut t = 0.0;
             for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
                 let h = self.corner_halfedge[k];
                 let f = faces[Topology::face(h).idx()];
                 let kk = (h % 3) as usize;
-                let (c, s, g) = corner_terms(
+                let (alpha, g) = corner_angle_gradient(
                     positions[p as usize],
                     positions[f[(kk + 1) % 3] as usize],
                     positions[f[(kk + 2) % 3] as usize],
                 );
-                sum.add(c, s);
+                t += alpha;
                 for (slot, gk) in self.corner_entries[k].iter().zip(g) {
                     if *slot != INVALID {
                         let e = &mut grad[*slot as usize];
@@ -307,46 +305,31 @@ impl Layout {
                     }
                 }
             }
-            theta[i] = sum
-                .finish()
-                .unwrap_or_else(|| self.theta_by_atan2(i, positions, faces));
+            theta[i] = t;
         }
     }
 
     /// θ at every interior vertex only (for trial points).
     pub fn theta(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], theta: &mut [f64]) {
         for (i, &p) in self.interior.iter().enumerate() {
-            let mut sum = AngleSum::default();
-            let v = positions[p as usize];
+            let mut t = 0.0;
             for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
                 let h = self.corner_halfedge[k];
                 let f = faces[Topology::face(h).idx()];
                 let kk = (h % 3) as usize;
-                let u = sub(positions[f[(kk + 1) % 3] as usize], v);
-                let w = sub(positions[f[(kk + 2) % 3] as usize], v);
-                sum.add(dot(u, w), norm(cross(u, w)));
+                t += flatcut_mesh::vec3::angle(
+                    flatcut_mesh::vec3::sub(
+                        positions[f[(kk + 1) % 3] as usize],
+                        positions[p as usize],
+                    ),
+                    flatcut_mesh::vec3::sub(
+                        positions[f[(kk + 2) % 3] as usize],
+                        positions[p as usize],
+                    ),
+                );
             }
-            theta[i] = sum
-                .finish()
-                .unwrap_or_else(|| self.theta_by_atan2(i, positions, faces));
+            theta[i] = t;
         }
-    }
-
-    /// θ at interior vertex `i` as a sum of `atan2`s (the fallback for a fan with a
-    /// zero-length edge, where [`AngleSum`] loses the argument).
-    fn theta_by_atan2(&self, i: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> f64 {
-        let v = positions[self.interior[i] as usize];
-        (self.corner_ptr[i]..self.corner_ptr[i + 1])
-            .map(|k| {
-                let h = self.corner_halfedge[k];
-                let f = faces[Topology::face(h).idx()];
-                let kk = (h % 3) as usize;
-                angle(
-                    sub(positions[f[(kk + 1) % 3] as usize], v),
-                    sub(positions[f[(kk + 2) % 3] as usize], v),
-                )
-            })
-            .sum()
     }
 
     /// Lower values of A G Aᵀ (without shift) into `values` (length [`Layout::normal_nnz`]).
