@@ -454,6 +454,120 @@ fn bodies() {
     }
 }
 
+/// Speed on the bench caps (the criterion bench's pieces): per size and target, iterations,
+/// rejected trials, factorisations, pull-backs, best of `REPS` (default 3) wall times, and
+/// that time over one numeric Cholesky of A Aᵀ at the input. SIZES=12,24,… to restrict.
+/// CPU time of this process so far (ns; Linux, summed over threads from
+/// /proc/self/task/*/schedstat; 0 elsewhere): on the shared machine wall time mostly
+/// measures the other agents' load.
+fn cpu_ns() -> u64 {
+    let Ok(dir) = std::fs::read_dir("/proc/self/task") else {
+        return 0;
+    };
+    dir.filter_map(|e| e.ok())
+        .filter_map(|e| std::fs::read_to_string(e.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<u64>().ok())
+        .sum()
+}
+
+fn speed() {
+    use flatcut_flattenable::least_norm::{Layout, Metric};
+    let reps: usize = std::env::var("REPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3);
+    let sizes: Vec<usize> = std::env::var("SIZES")
+        .map(|s| s.split(',').filter_map(|x| x.parse().ok()).collect())
+        .unwrap_or(vec![12, 24, 33, 43, 72]);
+    for n in sizes {
+        let mesh = flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+        let topo = flatcut_mesh::Topology::build(&mesh).unwrap();
+        let layout = Layout::build(&topo, &mesh.faces).unwrap();
+        let mut theta = vec![0.0; layout.n()];
+        let mut grad = vec![[0.0; 3]; layout.entries()];
+        layout.evaluate(&mesh.positions, &mesh.faces, &mut theta, &mut grad);
+        let scale = vec![1.0; layout.n()];
+        let metric = Metric {
+            scale: &scale,
+            normals: None,
+            tangential: 1.0,
+        };
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        let m = layout.mean_diagonal(&normal);
+        // Best of 20 (the machine is shared: the minimum is the least disturbed).
+        let best_of = |f: &mut dyn FnMut()| {
+            (0..20)
+                .map(|_| {
+                    let t = std::time::Instant::now();
+                    f();
+                    t.elapsed().as_secs_f64()
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let chol = best_of(&mut || {
+            std::hint::black_box(layout.factor(&normal, 1e-3 * m, None).unwrap());
+        });
+        let fac = layout.factor(&normal, 1e-3 * m, None).unwrap();
+        let mut x = theta.clone();
+        let solve = best_of(&mut || layout.solve(&fac, &mut x, 1));
+        let assemble = best_of(&mut || layout.normal_matrix(&grad, &metric, &mut normal));
+        let (mut th, mut gr) = (theta.clone(), grad.clone());
+        let eval = best_of(&mut || layout.evaluate(&mesh.positions, &mesh.faces, &mut th, &mut gr));
+        println!(
+            "{} faces: Cholesky {:.3} ms, solve {:.3} ms, assemble A G Aᵀ {:.3} ms, θ+A {:.3} ms",
+            mesh.faces.len(),
+            chol * 1e3,
+            solve * 1e3,
+            assemble * 1e3,
+            eval * 1e3
+        );
+        for target in [Target::Detail, Target::Zero] {
+            let opts = ProcessOptions {
+                target,
+                ..Default::default()
+            };
+            let mut best = f64::INFINITY;
+            let mut best_cpu = f64::INFINITY;
+            let mut rep = None;
+            for _ in 0..reps {
+                let t = std::time::Instant::now();
+                let c0 = cpu_ns();
+                let r = process(&mesh, &opts);
+                best = best.min(t.elapsed().as_secs_f64());
+                best_cpu = best_cpu.min((cpu_ns() - c0) as f64 * 1e-9);
+                rep = Some(match r {
+                    Ok(p) => (p.report, "conv"),
+                    Err(FlattenableError::NotConverged { partial, .. }) => {
+                        (partial.report, "NOTCONV")
+                    }
+                    Err(e) => panic!("{e}"),
+                });
+            }
+            let (r, ok) = rep.unwrap();
+            let p = &r.pieces[0];
+            println!(
+                "{} faces {:?}: {ok} it={} rej={} fact={} pb={} err={:.1e} area={:+.3}% rmsd={:.4} | wall {:.1} ms, CPU {:.1} ms = {:.1} Cholesky ({:.3} ms); per factorisation {:.2}x; stop: {}",
+                p.faces,
+                target,
+                p.iterations,
+                p.rejected_steps,
+                p.factorizations,
+                p.pull_backs,
+                p.final_theta_err,
+                p.area_change_percent,
+                p.rms_displacement_mm,
+                best * 1e3,
+                best_cpu * 1e3,
+                best_cpu / chol,
+                chol * 1e3,
+                best_cpu / chol / p.factorizations.max(1) as f64,
+                p.stop_reason,
+            );
+        }
+    }
+}
+
 /// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets|real|bodies]`
 /// prints the measurement tables of docs/algorithms/flattenable.md (a tool, not a test: it asserts
 /// nothing; the tests assert the numbers that must hold).
@@ -465,6 +579,7 @@ fn main() {
         "table" => table(),
         "real" => real(),
         "bodies" => bodies(),
+        "speed" => speed(),
         other => {
             eprintln!(
                 "unknown table '{other}': use table, probe, probe_weights, probe_targets, real or bodies"

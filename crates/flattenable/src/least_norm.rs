@@ -19,7 +19,10 @@
 //! the thread count; parallelism is across pieces.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, factorize_symbolic_cholesky,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use flatcut_mesh::{INVALID, Topology, VertexId};
@@ -230,9 +233,16 @@ impl Layout {
             contrib_ptr.push(contrib.len());
         }
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &m_col_ptr, None, &m_row_idx);
-        let symbolic =
-            factorize_symbolic_cholesky(sym, Side::Lower, Default::default(), Default::default())
-                .map_err(|e| FactorError::Other(format!("{e:?}")))?;
+        // Always supernodal: faer's automatic choice (a flop-ratio threshold) picks the
+        // simplicial factorisation for these two-ring patterns up to a few thousand unknowns,
+        // where the supernodal one was measured 2–3× faster (1681 unknowns: 0.70 vs 1.9 ms;
+        // 484: 0.12 vs 0.25 ms; `measure -- speed`), and never slower on the bench pieces.
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(sym, Side::Lower, Default::default(), params)
+            .map_err(|e| FactorError::Other(format!("{e:?}")))?;
         Ok(Self {
             interior,
             index_of,

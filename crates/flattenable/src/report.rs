@@ -49,6 +49,9 @@ pub struct PieceReport {
     /// Pull-backs towards the input taken by `Target::Detail` (robust mode; counted in
     /// `iterations`).
     pub pull_backs: usize,
+    /// Numeric Cholesky factorisations of A G Aᵀ (+ μ m I) done (robust mode): the unit of
+    /// cost an iteration is measured against.
+    pub factorizations: usize,
     /// Wall time of the piece (seconds).
     pub seconds: f64,
     /// Why the iteration stopped.

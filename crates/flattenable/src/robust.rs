@@ -194,6 +194,7 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
                 .map(|(a, v)| [a[0] - v[0], a[1] - v[1], a[2] - v[2]])
                 .collect();
             let mut taken = false;
+            report.factorizations += 1;
             if let Ok(factor) = layout.factor(&normal, mu.max(PULL_BACK_MU) * m, None) {
                 let mut y = layout.apply(&grad, &z);
                 layout.solve(&factor, &mut y, 1);
@@ -289,6 +290,7 @@ pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Ro
                 mean_diag = layout.mean_diagonal(&normal).max(f64::MIN_POSITIVE);
                 assembled = true;
             }
+            report.factorizations += 1;
             let Ok(factor) = layout.factor(&normal, mu * mean_diag, None) else {
                 mu = (mu * 10.0).max(MU_MIN);
                 report.rejected_steps += 1;
