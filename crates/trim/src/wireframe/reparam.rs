@@ -2,7 +2,8 @@
 //! conformally, its boundary and guide samples re-triangulated in that flattening (where 2D
 //! angles are close to 3D angles) and lifted again.
 
-use flatcut_mesh::vec3::{cross, dist, dot, norm, scale, sub};
+use flatcut_lscm::LscmOptions;
+use flatcut_mesh::TriMesh;
 
 use super::cdt::{Meshed, triangulate};
 use super::geom::{cross2, diagonal, first_crossing, signed_area};
@@ -26,7 +27,7 @@ pub(super) fn reparametrise(
     opts: &WireframeOptions,
     guides: &[WireCurve],
 ) -> Option<(Meshed, Vec<[f64; 3]>, f64)> {
-    let flat = lscm(positions, &meshed.faces)?;
+    let flat = conformal_flattening(positions, &meshed.faces)?;
     let mut nodes2 = nodes.to_vec();
     let mut seen = vec![false; nodes.len()];
     for (v, n) in meshed.node_of.iter().enumerate() {
@@ -68,111 +69,21 @@ pub(super) fn reparametrise(
     Some((m, p, a))
 }
 
-/// Least-squares conformal map (Lévy et al. 2002) of a disk patch, two far-apart vertices
-/// pinned at their 3D distance: per face the residual Σ_k W_k U_k / √(2A) with
-/// W_k = z_(k+2) − z_(k+1) in the face's own 2D frame (zero for every orientation-preserving
-/// similarity). `None` if the solve fails or a triangle comes out folded.
-fn lscm(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Option<Vec<[f64; 2]>> {
-    let n = positions.len();
-    // Pins: a vertex farthest from vertex 0, then the one farthest from it.
-    let far = |from: usize| {
-        (0..n)
-            .max_by(|&a, &b| {
-                dist(positions[a], positions[from]).total_cmp(&dist(positions[b], positions[from]))
-            })
-            .unwrap_or(0)
+/// Conformal flattening of the lifted patch: `flatcut_lscm`'s free-boundary LSCM (Lévy et
+/// al. 2002; pins: the boundary's 3D diameter pair at their true distance, so a developable
+/// patch comes out at true size). `None` if the patch is refused (e.g. a degenerate face) or
+/// a triangle comes out folded; the caller then keeps the patch it has.
+fn conformal_flattening(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Option<Vec<[f64; 2]>> {
+    let mesh = TriMesh {
+        positions: positions.to_vec(),
+        faces: faces.to_vec(),
+        ..TriMesh::default()
     };
-    let p0 = far(0);
-    let p1 = far(p0);
-    if p0 == p1 {
+    let flat = flatcut_lscm::lscm(&mesh, &LscmOptions::default()).ok()?;
+    if flat.pieces.len() != 1 {
         return None;
     }
-    let pinned = |v: usize| v == p0 || v == p1;
-    let pin_value = |v: usize| -> [f64; 2] {
-        if v == p0 {
-            [0.0, 0.0]
-        } else {
-            [dist(positions[p0], positions[p1]), 0.0]
-        }
-    };
-    // Free unknowns: (u, v) of every unpinned vertex.
-    let mut col = vec![usize::MAX; n];
-    let mut m = 0;
-    for (v, c) in col.iter_mut().enumerate() {
-        if !pinned(v) {
-            *c = m;
-            m += 1;
-        }
-    }
-    let nf = 2 * m;
-    let mut pairs = Vec::with_capacity(faces.len() * 36);
-    let mut vals = Vec::with_capacity(faces.len() * 36);
-    let mut rhs = vec![0.0; nf];
-    for f in faces {
-        let [a, b, c] = f.map(|v| positions[v as usize]);
-        let e1 = sub(b, a);
-        let l1 = norm(e1);
-        let nrm = cross(e1, sub(c, a));
-        let twice_area = norm(nrm);
-        if l1 == 0.0 || twice_area == 0.0 {
-            continue;
-        }
-        let x = scale(e1, 1.0 / l1);
-        let y = cross(scale(nrm, 1.0 / twice_area), x);
-        let z = [
-            [0.0, 0.0],
-            [l1, 0.0],
-            [dot(sub(c, a), x), dot(sub(c, a), y)],
-        ];
-        let w = 1.0 / twice_area.sqrt();
-        // Two real rows: Re and Im of Σ W_k (u_k + i v_k).
-        let mut rows = [[(0usize, 0.0f64); 6]; 2];
-        for k in 0..3 {
-            let wr = (z[(k + 2) % 3][0] - z[(k + 1) % 3][0]) * w;
-            let wi = (z[(k + 2) % 3][1] - z[(k + 1) % 3][1]) * w;
-            let v = f[k] as usize;
-            rows[0][2 * k] = (2 * v, wr);
-            rows[0][2 * k + 1] = (2 * v + 1, -wi);
-            rows[1][2 * k] = (2 * v, wi);
-            rows[1][2 * k + 1] = (2 * v + 1, wr);
-        }
-        let free = |var: usize| {
-            let c = col[var / 2];
-            (c != usize::MAX).then(|| 2 * c + var % 2)
-        };
-        for row in &rows {
-            // Pinned part moves to the right-hand side.
-            let mut fixed_part = 0.0;
-            for &(var, coef) in row {
-                if free(var).is_none() {
-                    fixed_part += coef * pin_value(var / 2)[var % 2];
-                }
-            }
-            for &(vi, ci) in row {
-                let Some(i) = free(vi) else { continue };
-                rhs[i] -= ci * fixed_part;
-                for &(vj, cj) in row {
-                    let Some(j) = free(vj) else { continue };
-                    if i >= j {
-                        pairs.push((i, j));
-                        vals.push(ci * cj);
-                    }
-                }
-            }
-        }
-    }
-    let pattern = flatcut_sparse::SpdPattern::new(nf, &pairs).ok()?;
-    let factor = pattern.factor(&vals).ok()?;
-    factor.solve_in_place(&mut rhs, 1).ok()?;
-    let uv: Vec<[f64; 2]> = (0..n)
-        .map(|v| {
-            if pinned(v) {
-                pin_value(v)
-            } else {
-                [rhs[2 * col[v]], rhs[2 * col[v] + 1]]
-            }
-        })
-        .collect();
+    let uv = flat.uv;
     let folded = faces
         .iter()
         .any(|f| cross2(uv[f[0] as usize], uv[f[1] as usize], uv[f[2] as usize]) <= 0.0);
@@ -184,6 +95,7 @@ mod tests {
     #![allow(clippy::unwrap_used)]
     use super::super::geom::dist2;
     use super::*;
+    use flatcut_mesh::vec3::dist;
 
     /// LSCM of a planar, irregular mesh is the mesh itself up to a rigid motion (the pins
     /// are at their true distance): every edge keeps its length.
@@ -210,7 +122,7 @@ mod tests {
                 faces.push([v, v + n + 1, v + n]);
             }
         }
-        let uv = lscm(&pos, &faces).unwrap();
+        let uv = conformal_flattening(&pos, &faces).unwrap();
         for f in &faces {
             for k in 0..3 {
                 let (a, b) = (f[k] as usize, f[(k + 1) % 3] as usize);
