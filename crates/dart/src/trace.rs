@@ -7,6 +7,7 @@
 //! laying the two faces flat and drawing a straight line does (Polthier & Schmies 1998).
 
 use flatcut_mesh::{Topology, TriMesh, VertexId, geometry, vec3};
+use flatcut_trim::lines::bary_in;
 use flatcut_trim::{Location, SurfacePoint};
 
 /// A start face accepts a direction when it enters the face by at least this much
@@ -59,25 +60,6 @@ fn in_plane(mesh: &TriMesh, f: usize, d: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// Weights of `p` in face `f` (its closure must hold `p`).
-fn weights_in(mesh: &TriMesh, p: SurfacePoint, f: usize) -> Option<[f64; 3]> {
-    if p.face.idx() == f {
-        return Some(p.barycentric);
-    }
-    let face = mesh.faces[f];
-    let idx = |v: u32| face.iter().position(|&x| x == v);
-    let mut w = [0.0; 3];
-    match p.location(mesh) {
-        Location::Vertex(v) => w[idx(v)?] = 1.0,
-        Location::Edge { a, b, t } => {
-            w[idx(a)?] = 1.0 - t;
-            w[idx(b)?] = t;
-        }
-        Location::Face(_) => return None,
-    }
-    Some(w)
-}
-
 /// Walks `length` mm from `start` along the straightest geodesic leaving in `direction`
 /// (projected onto the surface at the start).
 pub(crate) fn trace(
@@ -99,7 +81,7 @@ pub(crate) fn trace(
     // The start face: the one the projected direction enters.
     let mut state = None;
     for f in faces {
-        let Some(w) = weights_in(mesh, start, f) else {
+        let Some(w) = bary_in(mesh, start, f as u32) else {
             continue;
         };
         let d = in_plane(mesh, f, direction);

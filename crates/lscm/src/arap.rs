@@ -15,8 +15,8 @@ use serde::{Deserialize, Serialize};
 use crate::LscmError;
 use crate::lscm::PieceFlattening;
 use crate::metrics::max_edge_strain;
-use crate::sparse::SpdPattern;
 use crate::triangle::{closest_rotation, local_frame, signed_area2};
+use flatcut_sparse::SpdPattern;
 
 /// Options of [`arap`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -117,12 +117,14 @@ pub fn arap(p: &mut PieceFlattening, opts: &ArapOptions) -> Result<ArapReport, L
             }
         }
     }
-    let numerical = LscmError::Numerical {
-        component: piece.component,
+    let component = piece.component;
+    let numerical = |cause| LscmError::Numerical {
+        component,
         stage: "ARAP Laplacian",
+        cause,
     };
-    let pattern = SpdPattern::new(m, &pairs).ok_or_else(|| numerical.clone())?;
-    let factor = pattern.factor(&vals).ok_or_else(|| numerical.clone())?;
+    let pattern = SpdPattern::new(m, &pairs).map_err(numerical)?;
+    let factor = pattern.factor(&vals).map_err(numerical)?;
 
     // The ARAP energy at u with its optimal rotations R(u): E(u, R(u)). Each iteration's
     // rotations serve both its energy and the next global step.
@@ -176,9 +178,7 @@ pub fn arap(p: &mut PieceFlattening, opts: &ArapOptions) -> Result<ArapReport, L
                 }
             }
         }
-        if !factor.solve_in_place(&mut rhs, 2) {
-            return Err(numerical);
-        }
+        factor.solve_in_place(&mut rhs, 2).map_err(numerical)?;
         let target: Vec<[f64; 2]> = (0..n)
             .map(|v| match index[v] {
                 u32::MAX => uv[v],

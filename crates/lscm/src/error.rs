@@ -50,11 +50,14 @@ pub enum LscmError {
     PinsInDifferentComponents { a: VertexId, b: VertexId },
     /// The sparse factorisation failed although the input passed every check above.
     #[error(
-        "the linear system of component {component} ({stage}) is numerically singular; the piece may contain near-degenerate faces; run `flatcut clean` and retry"
+        "the linear system of component {component} ({stage}) failed: {cause}; the piece may contain near-degenerate faces; run `flatcut clean` and retry"
     )]
     Numerical {
         component: usize,
         stage: &'static str,
+        /// What the sparse solver refused.
+        #[source]
+        cause: flatcut_sparse::SparseError,
     },
     /// An option is out of its valid range.
     #[error("invalid option {name} = {value}: {reason}")]

@@ -19,7 +19,6 @@ pub mod metrics;
 pub mod piece;
 pub mod placement;
 pub mod refine;
-mod sparse;
 pub mod triangle;
 pub mod unfold;
 

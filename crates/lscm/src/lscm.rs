@@ -14,15 +14,15 @@
 //!
 //! Each connected component is a separate problem with its own pins.
 
-use faer::c64;
 use flatcut_mesh::geometry::corner_cot;
 use flatcut_mesh::{Topology, TriMesh, VertexId, vec3};
+use flatcut_sparse::c64;
 use serde::{Deserialize, Serialize};
 
 use crate::LscmError;
 use crate::piece::{Piece, split_pieces};
-use crate::sparse::SpdPattern;
 use crate::triangle::local_frame;
+use flatcut_sparse::SpdPattern;
 
 /// How the two pinned vertices are chosen.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -331,16 +331,16 @@ pub fn lscm_piece(piece: Piece, pins: [u32; 2]) -> Result<PieceFlattening, LscmE
             add(i, j, c64::new(0.0, 0.5));
         }
     }
-    let numerical = LscmError::Numerical {
-        component: piece.component,
+    let component = piece.component;
+    let numerical = |cause| LscmError::Numerical {
+        component,
         stage: "LSCM",
+        cause,
     };
     if m > 0 {
-        let pattern = SpdPattern::new(m, &pairs).ok_or_else(|| numerical.clone())?;
-        let factor = pattern.factor(&vals).ok_or_else(|| numerical.clone())?;
-        if !factor.solve_in_place(&mut rhs, 1) {
-            return Err(numerical);
-        }
+        let pattern = SpdPattern::new(m, &pairs).map_err(numerical)?;
+        let factor = pattern.factor(&vals).map_err(numerical)?;
+        factor.solve_in_place(&mut rhs, 1).map_err(numerical)?;
     }
     let mut uv: Vec<[f64; 2]> = pinned.iter().map(|z| [z.re, z.im]).collect();
     for v in 0..n {

@@ -17,8 +17,8 @@ use crate::LscmError;
 use crate::arap::{ArapOptions, ArapReport, arap};
 use crate::lscm::PieceFlattening;
 use crate::metrics::max_edge_strain;
-use crate::sparse::SpdPattern;
 use crate::triangle::signed_area2;
+use flatcut_sparse::{SpdFactor, SpdPattern};
 
 /// Options of [`refine_isometric`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -121,11 +121,15 @@ fn edge_length_newton(p: &mut PieceFlattening, opts: &RefineOptions) -> Result<u
         }
     }
     pairs.extend((0..2 * n).map(|k| (k, k)));
-    let numerical = LscmError::Numerical {
-        component: piece.component,
+    let component = piece.component;
+    let numerical = |cause| LscmError::Numerical {
+        component,
         stage: "Gauss-Newton on edge lengths",
+        cause,
     };
-    let pattern = SpdPattern::new(2 * n, &pairs).ok_or_else(|| numerical.clone())?;
+    let pattern = SpdPattern::new(2 * n, &pairs).map_err(numerical)?;
+    // The first step factorises; later steps refactorise in place (same pattern, new values).
+    let mut factor: Option<SpdFactor<'_>> = None;
 
     let residuals = |uv: &[[f64; 2]]| -> (f64, f64) {
         let mut cost = 0.0;
@@ -193,12 +197,15 @@ fn edge_length_newton(p: &mut PieceFlattening, opts: &RefineOptions) -> Result<u
         // keeps steps short when the model is poor.
         let mu = mu_rel * diag_sum / (2 * n) as f64;
         vals[k..].iter_mut().for_each(|x| *x = mu);
-        let Some(factor) = pattern.factor(&vals) else {
-            return Err(numerical);
+        let f = match factor.take() {
+            Some(mut f) => {
+                f.refactor(&vals).map_err(numerical)?;
+                f
+            }
+            None => pattern.factor(&vals).map_err(numerical)?,
         };
-        if !factor.solve_in_place(&mut rhs, 1) {
-            return Err(numerical);
-        }
+        f.solve_in_place(&mut rhs, 1).map_err(numerical)?;
+        factor = Some(f);
         let trial: Vec<[f64; 2]> = uv
             .iter()
             .enumerate()

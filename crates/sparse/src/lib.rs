@@ -1,0 +1,39 @@
+//! The one sparse symmetric (or Hermitian) positive definite solver of flatcut: a thin
+//! wrapper over faer's sparse Cholesky (AMD ordering, supernodal or simplicial as faer
+//! chooses) with the analysis split from the numbers.
+//!
+//! - [`Triplets`]: assembly of the lower triangle from (row, col, value) entries;
+//!   duplicates are summed, entries above the diagonal are mirrored (conjugated).
+//! - [`SpdPattern`]: the sparsity pattern with its symbolic Cholesky, computed once.
+//! - [`SpdFactor`]: a numeric factorisation of that pattern for one set of values;
+//!   [`SpdFactor::refactor`] replaces the values in place (Gauss–Newton, reweighted
+//!   Laplacians) without redoing the analysis or reallocating L.
+//! - [`SpdFactor::solve_in_place`]: several right-hand sides at once.
+//!
+//! Used by `flatcut_lscm` (LSCM, ARAP, Gauss–Newton) and `flatcut_trim` (the wire-frame
+//! surface's harmonic lift). It depends on faer only, so every crate that needs a sparse
+//! SPD solve can sit on top of it without the crate DAG growing other edges (see
+//! docs/architecture.md).
+//!
+//! ```
+//! use flatcut_sparse::{SpdPattern, Triplets};
+//! // [2 -1; -1 2] x = [1, 1] → x = [1, 1].
+//! let mut t = Triplets::<f64>::new(2);
+//! t.push(0, 0, 2.0);
+//! t.push(1, 1, 2.0);
+//! t.push(1, 0, -1.0);
+//! let pattern = SpdPattern::new(2, t.pairs()).unwrap();
+//! let factor = pattern.factor(t.values()).unwrap();
+//! let mut x = vec![1.0, 1.0];
+//! factor.solve_in_place(&mut x, 1).unwrap();
+//! assert!((x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15);
+//! ```
+
+mod error;
+mod spd;
+mod triplets;
+
+pub use error::SparseError;
+pub use faer::c64;
+pub use spd::{SpdFactor, SpdPattern, Value};
+pub use triplets::Triplets;
