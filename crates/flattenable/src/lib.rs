@@ -14,6 +14,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod angle_gradient;
+pub mod coarsen;
 mod error;
 pub mod laplacian;
 pub mod least_norm;
