@@ -23,6 +23,10 @@ fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
         }
     };
     let p = &rep.pieces[0];
+    if std::env::var("TRACE").is_ok() {
+        let t: Vec<String> = p.theta_err.iter().map(|e| format!("{e:.1e}")).collect();
+        println!("trace: {}", t.join(" "));
+    }
     println!(
         "{name}: {ok} it={} err={:.2e} rms={:.2e} minang={:.1} area={:.2}% rmsd={:.4} maxd={:.4} rej={} folded={} t={:.2}s stop={} msgs={:?}",
         rep.iterations,
@@ -38,6 +42,31 @@ fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
         p.stop_reason,
         p.messages
     );
+}
+
+/// Coarse-to-fine options from the environment: C2F=off|pos|disp (default: the library's),
+/// C2F_MIN (min_faces), C2F_LEVELS, C2F_RATIO.
+fn c2f_from_env() -> CoarseToFine {
+    let mut c = CoarseToFine::default();
+    match std::env::var("C2F").as_deref() {
+        Ok("off") => c.levels = 0,
+        Ok("pos") => c.prolongation = Prolongation::Positions,
+        Ok("disp") => c.prolongation = Prolongation::Displacement,
+        _ => {}
+    }
+    if let Some(v) = std::env::var("C2F_MIN").ok().and_then(|s| s.parse().ok()) {
+        c.min_faces = v;
+    }
+    if let Some(v) = std::env::var("C2F_LEVELS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        c.levels = v;
+    }
+    if let Some(v) = std::env::var("C2F_RATIO").ok().and_then(|s| s.parse().ok()) {
+        c.ratio = v;
+    }
+    c
 }
 
 fn probe() {
@@ -83,6 +112,7 @@ fn probe() {
             m,
             &ProcessOptions {
                 target,
+                coarse_to_fine: c2f_from_env(),
                 ..Default::default()
             },
         );
@@ -424,6 +454,7 @@ fn bodies() {
         let loops = topo.boundary_loops().len();
         let opts = ProcessOptions {
             target,
+            coarse_to_fine: c2f_from_env(),
             ..Default::default()
         };
         let t = std::time::Instant::now();
@@ -451,6 +482,9 @@ fn bodies() {
             p.folded_faces,
             t.elapsed().as_secs_f64(),
         );
+        if std::env::var("C2F").is_ok() {
+            println!("    {:?}", p.messages);
+        }
     }
 }
 
