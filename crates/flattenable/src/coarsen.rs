@@ -268,7 +268,8 @@ impl State<'_> {
             let n0 = self.normal(old);
             let n1 = self.normal(new);
             let (l0, l1) = (norm(n0), norm(n1));
-            if !(l1 > 0.0) || dot(n0, n1) < self.cos_turn * l0 * l1 {
+            // A zero-area (or NaN) new face is refused too.
+            if l1.is_nan() || l1 <= 0.0 || dot(n0, n1) < self.cos_turn * l0 * l1 {
                 return false;
             }
             let p = new.map(|w| self.pos[w as usize]);
@@ -276,7 +277,8 @@ impl State<'_> {
                 let a = sub(p[(k + 1) % 3], p[k]);
                 let b = sub(p[(k + 2) % 3], p[k]);
                 let c = dot(a, b) / (norm(a) * norm(b));
-                if !(c <= self.cos_corner) {
+                // Corner below the floor ⇔ cos above its cos; NaN (zero edge) refused.
+                if c.is_nan() || c > self.cos_corner {
                     return false;
                 }
             }

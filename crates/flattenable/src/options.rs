@@ -75,7 +75,7 @@ pub enum Prolongation {
 #[serde(default, deny_unknown_fields)]
 pub struct CoarseToFine {
     /// A level with at least this many faces gets a coarser level below it; pieces with
-    /// fewer faces are solved directly. Default 10 000 (measured in
+    /// fewer faces are solved directly. Default 2 000 (measured in
     /// docs/algorithms/flattenable.md: below that the fine solve is already fast).
     pub min_faces: usize,
     /// Face-count ratio between consecutive levels (> 1). Default 4.
@@ -89,7 +89,7 @@ pub struct CoarseToFine {
 impl Default for CoarseToFine {
     fn default() -> Self {
         Self {
-            min_faces: 10_000,
+            min_faces: 2_000,
             ratio: 4.0,
             levels: 3,
             prolongation: Prolongation::Displacement,
@@ -149,7 +149,7 @@ pub struct ProcessOptions {
     /// Smallest corner angle (degrees) a step may create: a corner that ends below it and
     /// below its input angle rejects the step. Default 0.5.
     pub min_angle_deg: f64,
-    /// Robust mode: coarse-to-fine for large pieces. Default on from 10 000 faces.
+    /// Robust mode: coarse-to-fine for large pieces. Default on from 2 000 faces.
     pub coarse_to_fine: CoarseToFine,
 }
 
