@@ -122,3 +122,39 @@ fn coarse_to_fine_rejects_a_bad_ratio() {
         Err(flatcut_flattenable::FlattenableError::InvalidOption { .. })
     ));
 }
+
+/// Two 2 048-face caps (default options: both go coarse-to-fine) processed in parallel give
+/// the same positions bit for bit on 1 and 2 threads, and the same as each piece alone.
+#[test]
+fn coarse_to_fine_is_deterministic_on_any_thread_count() {
+    let a = common::sphere_cap(33);
+    let mut b = common::saddle(33);
+    for p in &mut b.positions {
+        p[0] += 5.0;
+    }
+    let n = a.vertex_count() as u32;
+    let mut positions = a.positions.clone();
+    positions.extend_from_slice(&b.positions);
+    let mut faces = a.faces.clone();
+    faces.extend(b.faces.iter().map(|f| f.map(|v| v + n)));
+    let both = flatcut_mesh::TriMesh::new(positions, faces).unwrap();
+    let opts = ProcessOptions::default();
+    let mut runs = Vec::new();
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let r = pool.install(|| process(&both, &opts).unwrap());
+        assert!(
+            r.report
+                .pieces
+                .iter()
+                .all(|p| p.messages.iter().any(|m| m.starts_with("coarse-to-fine")))
+        );
+        runs.push(r.mesh.positions);
+    }
+    assert_eq!(runs[0], runs[1]);
+    let alone = process(&a, &opts).unwrap();
+    assert_eq!(alone.mesh.positions[..], runs[0][..a.vertex_count()]);
+}
