@@ -354,6 +354,7 @@ fn real() {
             .mesh;
         let opts = ProcessOptions {
             target,
+            coarse_to_fine: c2f_from_env(),
             ..Default::default()
         };
         let t = std::time::Instant::now();
@@ -381,6 +382,9 @@ fn real() {
             t.elapsed().as_secs_f64(),
             p.stop_reason
         );
+        if std::env::var("C2F").is_ok() {
+            println!("    {:?}", p.messages);
+        }
     }
 }
 
