@@ -45,17 +45,27 @@ fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
 }
 
 /// Coarse-to-fine options from the environment: C2F=off|pos|disp (default: the library's),
-/// C2F_MIN (min_faces), C2F_LEVELS, C2F_RATIO.
+/// C2F_MIN (min_faces), C2F_MAX (max_faces; unlimited when C2F=pos|disp), C2F_LEVELS,
+/// C2F_RATIO.
 fn c2f_from_env() -> CoarseToFine {
     let mut c = CoarseToFine::default();
     match std::env::var("C2F").as_deref() {
         Ok("off") => c.levels = 0,
-        Ok("pos") => c.prolongation = Prolongation::Positions,
-        Ok("disp") => c.prolongation = Prolongation::Displacement,
+        Ok("pos") => {
+            c.prolongation = Prolongation::Positions;
+            c.max_faces = usize::MAX;
+        }
+        Ok("disp") => {
+            c.prolongation = Prolongation::Displacement;
+            c.max_faces = usize::MAX;
+        }
         _ => {}
     }
     if let Some(v) = std::env::var("C2F_MIN").ok().and_then(|s| s.parse().ok()) {
         c.min_faces = v;
+    }
+    if let Some(v) = std::env::var("C2F_MAX").ok().and_then(|s| s.parse().ok()) {
+        c.max_faces = v;
     }
     if let Some(v) = std::env::var("C2F_LEVELS")
         .ok()
@@ -78,6 +88,11 @@ fn probe() {
     let meshes = [
         ("cap", common::sphere_cap(n)),
         ("saddle", common::saddle(n)),
+        // The bench's cap (alternating diagonals).
+        (
+            "bcap",
+            flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt()),
+        ),
     ];
     for (name, m) in &meshes {
         if which != "all" && which != *name {

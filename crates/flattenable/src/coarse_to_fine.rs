@@ -34,7 +34,7 @@ const START_HALVINGS: usize = 8;
 /// Whether `faces`-face pieces are solved coarse-to-fine under `opts`.
 pub fn applies(faces: usize, opts: &ProcessOptions) -> bool {
     let c = &opts.coarse_to_fine;
-    c.levels > 0 && faces >= c.min_faces && c.ratio > 1.0
+    c.levels > 0 && faces >= c.min_faces && faces <= c.max_faces && c.ratio > 1.0
 }
 
 /// Robust mode on `piece` (local mesh `local`, weights per local vertex `w_local`) through

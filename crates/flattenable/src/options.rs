@@ -78,6 +78,12 @@ pub struct CoarseToFine {
     /// fewer faces are solved directly. Default 2 000 (measured in
     /// docs/algorithms/flattenable.md: below that the fine solve is already fast).
     pub min_faces: usize,
+    /// Pieces with more faces than this are solved directly. Default 15 000: measured to help
+    /// from 2k to 10k faces (body pieces, grids); above, mixed — a 100k-face cap went from 283
+    /// to 109 fine iterations, another 100k cap and the 19.6k one stalled from the
+    /// prolongated start and fell back to the direct solve at twice its time
+    /// (docs/algorithms/flattenable.md). Raise it to try coarse-to-fine on larger pieces.
+    pub max_faces: usize,
     /// Face-count ratio between consecutive levels (> 1). Default 4.
     pub ratio: f64,
     /// Largest number of coarse levels; 0 disables coarse-to-fine. Default 3.
@@ -90,6 +96,7 @@ impl Default for CoarseToFine {
     fn default() -> Self {
         Self {
             min_faces: 2_000,
+            max_faces: 15_000,
             ratio: 4.0,
             levels: 3,
             prolongation: Prolongation::Displacement,
@@ -149,7 +156,7 @@ pub struct ProcessOptions {
     /// Smallest corner angle (degrees) a step may create: a corner that ends below it and
     /// below its input angle rejects the step. Default 0.5.
     pub min_angle_deg: f64,
-    /// Robust mode: coarse-to-fine for large pieces. Default on from 2 000 faces.
+    /// Robust mode: coarse-to-fine for large pieces. Default on for pieces of 2 000 to 15 000 faces.
     pub coarse_to_fine: CoarseToFine,
 }
 

@@ -11,6 +11,7 @@ fn c2f_opts(prolongation: Prolongation) -> ProcessOptions {
         target: Target::Zero,
         coarse_to_fine: CoarseToFine {
             min_faces: 1000,
+            max_faces: usize::MAX,
             ratio: 4.0,
             levels: 1,
             prolongation,
@@ -102,7 +103,32 @@ fn small_pieces_are_solved_directly() {
     )
     .unwrap();
     assert_eq!(a.mesh.positions, b.mesh.positions);
+    // Above max_faces: solved directly too.
+    let above = process(
+        &cap,
+        &ProcessOptions {
+            coarse_to_fine: CoarseToFine {
+                min_faces: 100,
+                max_faces: 200,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(
+        !above.report.pieces[0]
+            .messages
+            .iter()
+            .any(|m| m.contains("coarse-to-fine"))
+    );
     let c = process(&cap, &opts(1)).unwrap();
+    assert!(
+        c.report.pieces[0]
+            .messages
+            .iter()
+            .any(|m| m.starts_with("coarse-to-fine"))
+    );
     assert!(c.report.final_theta_err <= 1e-9);
     assert_eq!(common::boundary_changed(&cap, &c.mesh), 0);
 }
