@@ -23,6 +23,10 @@ fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
         }
     };
     let p = &rep.pieces[0];
+    if std::env::var("TRACE").is_ok() {
+        let t: Vec<String> = p.theta_err.iter().map(|e| format!("{e:.1e}")).collect();
+        println!("trace: {}", t.join(" "));
+    }
     println!(
         "{name}: {ok} it={} err={:.2e} rms={:.2e} minang={:.1} area={:.2}% rmsd={:.4} maxd={:.4} rej={} folded={} t={:.2}s stop={} msgs={:?}",
         rep.iterations,
@@ -40,6 +44,41 @@ fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
     );
 }
 
+/// Coarse-to-fine options from the environment: C2F=off|pos|disp (default: the library's),
+/// C2F_MIN (min_faces), C2F_MAX (max_faces; unlimited when C2F=pos|disp), C2F_LEVELS,
+/// C2F_RATIO.
+fn c2f_from_env() -> CoarseToFine {
+    let mut c = CoarseToFine::default();
+    match std::env::var("C2F").as_deref() {
+        Ok("off") => c.levels = 0,
+        Ok("pos") => {
+            c.prolongation = Prolongation::Positions;
+            c.max_faces = usize::MAX;
+        }
+        Ok("disp") => {
+            c.prolongation = Prolongation::Displacement;
+            c.max_faces = usize::MAX;
+        }
+        _ => {}
+    }
+    if let Some(v) = std::env::var("C2F_MIN").ok().and_then(|s| s.parse().ok()) {
+        c.min_faces = v;
+    }
+    if let Some(v) = std::env::var("C2F_MAX").ok().and_then(|s| s.parse().ok()) {
+        c.max_faces = v;
+    }
+    if let Some(v) = std::env::var("C2F_LEVELS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        c.levels = v;
+    }
+    if let Some(v) = std::env::var("C2F_RATIO").ok().and_then(|s| s.parse().ok()) {
+        c.ratio = v;
+    }
+    c
+}
+
 fn probe() {
     let n: usize = std::env::var("N")
         .ok()
@@ -49,6 +88,11 @@ fn probe() {
     let meshes = [
         ("cap", common::sphere_cap(n)),
         ("saddle", common::saddle(n)),
+        // The bench's cap (alternating diagonals).
+        (
+            "bcap",
+            flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt()),
+        ),
     ];
     for (name, m) in &meshes {
         if which != "all" && which != *name {
@@ -83,6 +127,7 @@ fn probe() {
             m,
             &ProcessOptions {
                 target,
+                coarse_to_fine: c2f_from_env(),
                 ..Default::default()
             },
         );
@@ -324,6 +369,7 @@ fn real() {
             .mesh;
         let opts = ProcessOptions {
             target,
+            coarse_to_fine: c2f_from_env(),
             ..Default::default()
         };
         let t = std::time::Instant::now();
@@ -351,6 +397,9 @@ fn real() {
             t.elapsed().as_secs_f64(),
             p.stop_reason
         );
+        if std::env::var("C2F").is_ok() {
+            println!("    {:?}", p.messages);
+        }
     }
 }
 
@@ -424,6 +473,7 @@ fn bodies() {
         let loops = topo.boundary_loops().len();
         let opts = ProcessOptions {
             target,
+            coarse_to_fine: c2f_from_env(),
             ..Default::default()
         };
         let t = std::time::Instant::now();
@@ -451,6 +501,9 @@ fn bodies() {
             p.folded_faces,
             t.elapsed().as_secs_f64(),
         );
+        if std::env::var("C2F").is_ok() {
+            println!("    {:?}", p.messages);
+        }
     }
 }
 

@@ -14,6 +14,8 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod angle_gradient;
+mod coarse_to_fine;
+pub mod coarsen;
 mod error;
 pub mod laplacian;
 pub mod least_norm;
@@ -25,6 +27,6 @@ mod report;
 mod robust;
 
 pub use error::FlattenableError;
-pub use options::{Laplacian, Mode, ProcessOptions, Target, Update};
+pub use options::{CoarseToFine, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update};
 pub use process::{Processed, process};
 pub use report::{PieceReport, ProcessReport};

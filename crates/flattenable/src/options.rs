@@ -55,6 +55,55 @@ pub enum Target {
     Detail,
 }
 
+/// How a coarse solution is carried to the next finer level.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Prolongation {
+    /// v_fine = v⁰_fine + interp(v_coarse − v⁰_coarse): keeps the fine detail, which the
+    /// fine level then only has to flatten locally.
+    #[default]
+    Displacement,
+    /// v_fine = interp(v_coarse): the fine vertices start on the flattenable coarse surface
+    /// (fine detail lost; the detail target must pull it back).
+    Positions,
+}
+
+/// Coarse-to-fine for large pieces (robust mode): coarsen the piece by interior
+/// half-edge collapses (boundary kept bit-identical), solve the coarsest level from the
+/// input, prolongate, finish on each finer level. See docs/algorithms/flattenable.md.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CoarseToFine {
+    /// A level with at least this many faces gets a coarser level below it; pieces with
+    /// fewer faces are solved directly. Default 2 000 (measured in
+    /// docs/algorithms/flattenable.md: below that the fine solve is already fast).
+    pub min_faces: usize,
+    /// Pieces with more faces than this are solved directly. Default 15 000: measured to help
+    /// from 2k to 10k faces (body pieces, grids); above, mixed — a 100k-face cap went from 283
+    /// to 109 fine iterations, another 100k cap and the 19.6k one stalled from the
+    /// prolongated start and fell back to the direct solve at twice its time
+    /// (docs/algorithms/flattenable.md). Raise it to try coarse-to-fine on larger pieces.
+    pub max_faces: usize,
+    /// Face-count ratio between consecutive levels (> 1). Default 4.
+    pub ratio: f64,
+    /// Largest number of coarse levels; 0 disables coarse-to-fine. Default 3.
+    pub levels: usize,
+    /// How a coarse solution is carried to the finer level. Default `Displacement`.
+    pub prolongation: Prolongation,
+}
+
+impl Default for CoarseToFine {
+    fn default() -> Self {
+        Self {
+            min_faces: 2_000,
+            max_faces: 15_000,
+            ratio: 4.0,
+            levels: 3,
+            prolongation: Prolongation::Displacement,
+        }
+    }
+}
+
 /// Options of [`crate::process`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -107,6 +156,8 @@ pub struct ProcessOptions {
     /// Smallest corner angle (degrees) a step may create: a corner that ends below it and
     /// below its input angle rejects the step. Default 0.5.
     pub min_angle_deg: f64,
+    /// Robust mode: coarse-to-fine for large pieces. Default on for pieces of 2 000 to 15 000 faces.
+    pub coarse_to_fine: CoarseToFine,
 }
 
 impl Default for ProcessOptions {
@@ -129,6 +180,7 @@ impl Default for ProcessOptions {
             stop_d2_min: 1e-5,
             tangential_penalty: 10.0,
             min_angle_deg: 0.5,
+            coarse_to_fine: CoarseToFine::default(),
         }
     }
 }

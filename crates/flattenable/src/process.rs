@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::piece::Piece;
 use crate::report::{PieceReport, ProcessReport};
-use crate::{FlattenableError, Mode, ProcessOptions, paper, robust};
+use crate::{FlattenableError, Mode, ProcessOptions, coarse_to_fine, paper, robust};
 
 /// The result of [`process`]: the mesh with new positions (same connectivity, attributes
 /// and labels) and the report.
@@ -126,6 +126,13 @@ fn check_options(mesh: &TriMesh, opts: &ProcessOptions) -> Result<(), Flattenabl
         return bad(
             "tangential_penalty",
             format!("{} must be ≥ 1", opts.tangential_penalty),
+        );
+    }
+    let c2f = &opts.coarse_to_fine;
+    if c2f.levels > 0 && !(c2f.ratio.is_finite() && c2f.ratio > 1.0) {
+        return bad(
+            "coarse_to_fine.ratio",
+            format!("{} must be finite and > 1", c2f.ratio),
         );
     }
     if !(0.0..60.0).contains(&opts.min_angle_deg) {
@@ -273,6 +280,9 @@ fn run_piece(
     } else {
         match opts.mode {
             Mode::Paper => paper::run(&piece, opts, &mut report)?,
+            Mode::Robust if coarse_to_fine::applies(local.face_count(), opts) => {
+                coarse_to_fine::run(&piece, &local, &w_local, opts, &mut report)?
+            }
             Mode::Robust => robust::run(&piece, opts, &mut report).positions,
         }
     };

@@ -93,9 +93,21 @@ pub struct RobustOutcome {
 
 /// Runs robust mode on one piece; fills `report` (converged or not).
 pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> RobustOutcome {
+    run_from(piece, &piece.pos0, opts, report)
+}
+
+/// [`run`] started from `start` (same boundary as the input) instead of the input; the
+/// fold guard, the pull-backs and every displacement still refer to the input `piece.pos0`
+/// (coarse-to-fine starts the fine level from a prolongated solution).
+pub fn run_from(
+    piece: &Piece,
+    start: &[[f64; 3]],
+    opts: &ProcessOptions,
+    report: &mut PieceReport,
+) -> RobustOutcome {
     let layout = &piece.layout;
     let n = layout.n();
-    let mut pos = piece.pos0.clone();
+    let mut pos = start.to_vec();
     let mut theta = vec![0.0; n];
     let mut trial_theta = vec![0.0; n];
     let mut grad = vec![[0.0; 3]; layout.entries()];
