@@ -498,6 +498,21 @@ fn check_options(mesh: &TriMesh, opts: &RemeshOptions) -> Result<(), RemeshError
     Ok(())
 }
 
+/// Vertex normals as the sum of the incident face normals weighted by twice the face area
+/// (not normalised: callers normalise where they need a direction).
+fn area_weighted_vertex_normals(surf: &TriMesh) -> Vec<[f64; 3]> {
+    let fnorm = face_normals(&surf.positions, &surf.faces);
+    let mut vn = vec![[0.0; 3]; surf.positions.len()];
+    for (f, face) in surf.faces.iter().enumerate() {
+        let [a, b, c] = face.map(|i| surf.positions[i as usize]);
+        let area = norm(cross(sub(b, a), sub(c, a)));
+        for &v in face {
+            vn[v as usize] = add(vn[v as usize], scale(fnorm[f], area));
+        }
+    }
+    vn
+}
+
 /// Target edge length per working-surface vertex: uniform, or from a curvature estimate
 /// (largest normal curvature towards a neighbour, averaged once over the ring) by Botsch &
 /// Kobbelt's chord-error rule L = √(6ε/κ − 3ε²), clamped to [min, max].
@@ -506,15 +521,7 @@ fn sizing_field(surf: &TriMesh, topo: &Topology, opts: &RemeshOptions) -> Vec<f6
     let (Some(lo), Some(hi)) = (opts.min_edge_mm, opts.max_edge_mm) else {
         return vec![opts.target_edge_mm; n];
     };
-    let fnorm = face_normals(&surf.positions, &surf.faces);
-    let mut vn = vec![[0.0; 3]; n];
-    for (f, face) in surf.faces.iter().enumerate() {
-        let [a, b, c] = face.map(|i| surf.positions[i as usize]);
-        let area = norm(cross(sub(b, a), sub(c, a)));
-        for &v in face {
-            vn[v as usize] = add(vn[v as usize], scale(fnorm[f], area));
-        }
-    }
+    let vn = area_weighted_vertex_normals(surf);
     let mut kappa = vec![0.0f64; n];
     for e in topo.edges() {
         let (a, b) = (e[0] as usize, e[1] as usize);
@@ -560,15 +567,7 @@ fn sizing_field(surf: &TriMesh, topo: &Topology, opts: &RemeshOptions) -> Vec<f6
 /// gives about σ (≈ 2 mm on mh_body_scanlike).
 fn roughness_field(surf: &TriMesh, topo: &Topology) -> Vec<f64> {
     let n = surf.positions.len();
-    let fnorm = face_normals(&surf.positions, &surf.faces);
-    let mut vn = vec![[0.0; 3]; n];
-    for (f, face) in surf.faces.iter().enumerate() {
-        let [a, b, c] = face.map(|i| surf.positions[i as usize]);
-        let area = norm(cross(sub(b, a), sub(c, a)));
-        for &v in face {
-            vn[v as usize] = add(vn[v as usize], scale(fnorm[f], area));
-        }
-    }
+    let vn = area_weighted_vertex_normals(surf);
     let edges = topo.edges();
     let ring_mean = |val: &[[f64; 3]]| -> Vec<[f64; 3]> {
         let mut sum = vec![[0.0; 3]; n];
