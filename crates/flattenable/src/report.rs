@@ -46,6 +46,9 @@ pub struct PieceReport {
     pub min_angle_deg: f64,
     /// Trial steps rejected by the merit test or the fold guards (robust mode).
     pub rejected_steps: usize,
+    /// Rejected trials rescued by a fraction of the same step (no new factorisation;
+    /// robust mode, counted in `rejected_steps` too).
+    pub backtracked_steps: usize,
     /// Pull-backs towards the input taken by `Target::Detail` (robust mode; counted in
     /// `iterations`).
     pub pull_backs: usize,

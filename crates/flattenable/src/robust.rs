@@ -28,7 +28,7 @@
 use std::f64::consts::TAU;
 
 use crate::laplacian::LeastSquareUpdate;
-use crate::least_norm::Metric;
+use crate::least_norm::{Layout, Metric};
 use crate::options::{ProcessOptions, Target, Update};
 use crate::piece::Piece;
 use crate::report::PieceReport;
@@ -413,6 +413,20 @@ pub fn run_from(
                 break;
             }
             report.rejected_steps += 1;
+            // Before paying for a new factorisation at a larger damping, try fractions of
+            // the same step: the linear model is exact to first order, so a short enough
+            // step along d achieves its predicted decrease f − ‖b − α A d‖². A try costs a θ
+            // evaluation and a fold check. The damping still rises as after a rejection, so
+            // the next iterations stay as cautious as before.
+            if ls.is_none()
+                && let Some((short, f_short)) =
+                    backtrack(piece, layout, &pos, &interior, &d, &b, &ad, f, n)
+            {
+                report.backtracked_steps += 1;
+                mu *= 4.0;
+                accepted = Some((short, f_short));
+                break;
+            }
             mu *= 4.0;
         }
         let Some((trial, _)) = accepted else {
@@ -438,4 +452,55 @@ pub fn run_from(
         }
     }
     RobustOutcome { positions: best.1 }
+}
+
+/// Step fractions tried along a rejected direction before the damping is raised.
+const BACKTRACKS: usize = 3;
+
+/// The first of α = 1/2, 1/4, … (`BACKTRACKS` tries) for which `pos + α d` has no folded
+/// face and a real decrease of the merit against the linear model's prediction (ρ above
+/// `RHO_ACCEPT`, as for full steps); the new positions and their merit.
+#[allow(clippy::too_many_arguments)]
+fn backtrack(
+    piece: &Piece,
+    layout: &Layout,
+    pos: &[[f64; 3]],
+    interior: &[[f64; 3]],
+    d: &[[f64; 3]],
+    b: &[f64],
+    ad: &[f64],
+    f: f64,
+    n: usize,
+) -> Option<(Vec<[f64; 3]>, f64)> {
+    let mut alpha = 0.5;
+    let mut theta = vec![0.0; n];
+    for _ in 0..BACKTRACKS {
+        let next: Vec<[f64; 3]> = interior
+            .iter()
+            .zip(d)
+            .map(|(v, d)| {
+                [
+                    v[0] + alpha * d[0],
+                    v[1] + alpha * d[1],
+                    v[2] + alpha * d[2],
+                ]
+            })
+            .collect();
+        let cand = piece.with_interior(pos, &next);
+        if piece.folded_faces(&cand) == 0 {
+            layout.theta(&cand, &piece.faces, &mut theta);
+            let f_cand = Piece::errors(&theta).1;
+            let res: f64 = b
+                .iter()
+                .zip(ad)
+                .map(|(b, a)| (b - alpha * a) * (b - alpha * a))
+                .sum();
+            let pred = f - res;
+            if f_cand.is_finite() && f_cand < f && pred > 0.0 && (f - f_cand) / pred > RHO_ACCEPT {
+                return Some((cand, f_cand));
+            }
+        }
+        alpha *= 0.5;
+    }
+    None
 }
