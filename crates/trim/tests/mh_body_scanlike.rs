@@ -125,11 +125,18 @@ fn mh_body_scanlike_wetsuit_at_8_and_12_mm_cuts_without_overlaps() {
         .fold(f64::INFINITY, f64::min);
     assert!(d < 5.0, "{d}");
     match trim(&m8, &cuts).unwrap_err() {
-        TrimError::SeedUsedTwice { first, second } => {
+        TrimError::SeedUsedTwice {
+            first,
+            second,
+            near_line,
+            near_mm,
+        } => {
             assert_eq!(
                 (first.as_str(), second.as_str()),
                 ("back-right-centre", "back-right-side")
-            )
+            );
+            assert_eq!(near_line, "princess-back-right");
+            assert!(near_mm < 5.0, "{near_mm}");
         }
         e => panic!("{e}"),
     }
