@@ -185,6 +185,58 @@ fn a_zig_zag_landmark_chain_folding_back_is_straightened() {
     assert_eq!(t.ledger.seams.len(), 1);
 }
 
+/// Distance from `x` to a polyline of surface points.
+fn to_polyline(m: &TriMesh, pts: &[SurfacePoint], x: [f64; 3]) -> f64 {
+    pts.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0].position(m), w[1].position(m));
+            let d = vec3::sub(b, a);
+            let t = (vec3::dot(vec3::sub(x, a), d) / vec3::norm2(d).max(1e-300)).clamp(0.0, 1.0);
+            vec3::dist(x, vec3::add(a, vec3::scale(d, t)))
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn a_zig_zag_chain_crossing_itself_loses_the_loop_at_the_crossing() {
+    let m = saddle();
+    // M lies 4.2 mm north-west of the saddle: A → M and M → B bend round it on different
+    // sides and cross — a small loop round M (as sleeve-back-right at 12 mm).
+    let (a, mid, b) = ([-50.0, -20.0, 0.0], [-3.0, 3.0, 0.0], [-20.0, -50.0, 0.0]);
+    let raw = |x: [f64; 3], y: [f64; 3]| {
+        geodesic(&m, sp(&m, x), sp(&m, y), &GeodesicOptions::default())
+            .unwrap()
+            .unwrap()
+    };
+    let (am, mb) = (raw(a, mid), raw(mid, b));
+    let c = cuts(vec![line("zig", vec![a, mid, b])]);
+    let t = trim(&m, &c).unwrap();
+    check_conservation(&m, &t);
+    let pts = &t.lines[0].points;
+    // Every point of the line lies on one of the raw legs; the crossing point on both.
+    let mp = sp(&m, mid).position(&m);
+    let mut crossing = None;
+    for p in pts {
+        let x = p.position(&m);
+        let (d1, d2) = (
+            to_polyline(&m, &am.points, x),
+            to_polyline(&m, &mb.points, x),
+        );
+        assert!(d1.min(d2) < 1e-9, "{x:?} off both legs: {d1} {d2}");
+        if d1 < 1e-9 && d2 < 1e-9 {
+            crossing = Some(x);
+        }
+    }
+    let x = crossing.expect("a point on both legs");
+    assert!(vec3::dist(x, mp) > 1.0, "the crossing is not M");
+    assert!(pts.iter().all(|p| vec3::dist(p.position(&m), mp) > 1.0));
+    // The loop X → M → X cut out is at least 2 |X M| long.
+    assert!(t.lines[0].length <= am.length + mb.length - 2.0 * vec3::dist(x, mp) + 1e-9);
+    assert_eq!(t.pieces.len(), 2);
+    assert!(t.report.pieces.iter().all(|p| p.disk));
+    assert_eq!(t.ledger.seams.len(), 1);
+}
+
 #[test]
 fn a_long_loop_and_a_long_overlap_stay_errors() {
     let m = saddle();
