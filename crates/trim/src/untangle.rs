@@ -385,11 +385,14 @@ pub(crate) fn separate(
                 v.extend_from_slice(&pts[m + 1..]);
                 options.push(v);
             }
-            // The first option that no longer shares this stretch.
-            let Some(v) = options
-                .into_iter()
-                .find(|v| shared_run(ctx, index, v).is_none_or(|(k2, _, l2)| l2 != li || k2 != k))
-            else {
+            // The first option that no longer shares this stretch (compared by place: the
+            // options renumber the points).
+            let (xk, xm) = (pts[k].position(mesh), pts[m].position(mesh));
+            let Some(v) = options.into_iter().find(|v| {
+                shared_run(ctx, index, v).is_none_or(|(k2, m2, l2)| {
+                    l2 != li || v[k2].position(mesh) != xk || v[m2].position(mesh) != xm
+                })
+            }) else {
                 return Err(overlap());
             };
             new = v;
@@ -404,8 +407,10 @@ pub(crate) fn separate(
         if new.len() < 2 {
             return Err(overlap());
         }
-        // Landmarks: those still present by position; the junction counts as one.
-        let keep: Vec<[f64; 3]> = marks.iter().map(|&i| x.points[i].position(mesh)).collect();
+        // Landmarks: those still present by position, and both ends of the stretch (one is
+        // the new junction, a fixed point of the line like a landmark).
+        let mut keep: Vec<[f64; 3]> = marks.iter().map(|&i| x.points[i].position(mesh)).collect();
+        keep.extend([pts[k].position(mesh), pts[m].position(mesh)]);
         *marks = new
             .iter()
             .enumerate()
