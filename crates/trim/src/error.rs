@@ -120,13 +120,20 @@ pub enum TrimError {
     },
     /// Two seeds fall into the same piece.
     #[error(
-        "pieces {first:?} and {second:?} have their seeds in the same piece; a cutting line between them is missing or does not close"
+        "pieces {first:?} and {second:?} have their seeds in the same piece; a cutting line between them is missing or does not close, or passes the seed of {second:?} on the wrong side (it is {near_mm:.1} mm from line {near_line}): move that seed into its piece"
     )]
+    // The nearest line's name is not quoted: the pipeline locates an error at the first quoted
+    // name of a cut in it, and the place to fix is the piece's seed.
     SeedUsedTwice {
         /// The first name.
         first: String,
         /// The second name.
         second: String,
+        /// The line nearest the second seed (on a noisy scan a line may pass a seed closely,
+        /// on its other side).
+        near_line: String,
+        /// Its distance from the second seed's surface point, mm.
+        near_mm: f64,
     },
     /// The embedding failed at a face (a numerical corner case).
     #[error("cannot embed line {line:?} in source face {face}: {reason}; move the line slightly")]

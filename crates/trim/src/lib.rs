@@ -11,6 +11,7 @@ pub mod lines;
 pub mod pieces;
 mod seams;
 pub mod surface_point;
+pub mod untangle;
 mod wetsuit;
 
 pub use cut::{LineReport, TrimReport, Trimmed, trim};

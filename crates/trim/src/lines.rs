@@ -18,6 +18,7 @@ use crate::cuts::Cuts;
 use crate::surface_point::{
     Location, SNAP_RELATIVE, SurfacePoint, SurfacePointOptions, surface_point,
 };
+use crate::untangle::SegIndex;
 use crate::{GeodesicSolver, TrimError};
 
 /// One cutting line on the surface.
@@ -261,12 +262,17 @@ pub(crate) fn resolve(ctx: &LineContext, cuts: &Cuts) -> Result<Vec<CutLine>, Tr
     }
 
     let n = cuts.cuts.len();
+    let names: Vec<String> = cuts.cuts.iter().map(|c| c.name.clone()).collect();
+    // Segments of the lines made so far: a new line may not share a stretch with them.
+    let mut index = SegIndex::new();
     let mut done: Vec<Option<CutLine>> = vec![None; n];
     for (i, c) in cuts.cuts.iter().enumerate() {
         if c.closed {
             let mut m = marks[i].clone();
             m.push(m[0]);
-            done[i] = Some(join(ctx, &c.name, true, &m)?);
+            let l = join(ctx, &index, &names, true, &m, i)?;
+            index.add(ctx, i, &l);
+            done[i] = Some(l);
         }
     }
     // Open lines, in dependency order: a line is resolved once each end lies near the boundary
@@ -274,12 +280,12 @@ pub(crate) fn resolve(ctx: &LineContext, cuts: &Cuts) -> Result<Vec<CutLine>, Tr
     loop {
         let mut progress = false;
         let mut pending = false;
-        for (i, c) in cuts.cuts.iter().enumerate() {
+        for (i, marks_i) in marks.iter().enumerate() {
             if done[i].is_some() {
                 continue;
             }
             pending = true;
-            let mut m = marks[i].clone();
+            let mut m = marks_i.clone();
             let last = m.len() - 1;
             let mut ok = true;
             for e in [0, last] {
@@ -289,7 +295,9 @@ pub(crate) fn resolve(ctx: &LineContext, cuts: &Cuts) -> Result<Vec<CutLine>, Tr
                 }
             }
             if ok {
-                done[i] = Some(join(ctx, &c.name, false, &m)?);
+                let l = join(ctx, &index, &names, false, &m, i)?;
+                index.add(ctx, i, &l);
+                done[i] = Some(l);
                 progress = true;
             }
         }
@@ -381,20 +389,59 @@ fn snap_end(
     best
 }
 
-/// Joins landmarks by geodesics (or edges between adjacent vertices).
+/// Joins landmarks by geodesics (or edges between adjacent vertices), then untangles the
+/// line: small self-loops removed, stretches shared with the lines already in `index` slid
+/// apart ([`crate::untangle`]). `li` is the line's index in `names`.
 fn join(
+    ctx: &LineContext,
+    index: &SegIndex,
+    names: &[String],
+    closed: bool,
+    marks: &[SurfacePoint],
+    li: usize,
+) -> Result<CutLine, TrimError> {
+    let name = &names[li];
+    let (mut line, mut at) = join_marked(ctx, name, closed, marks)?;
+    let keep: Vec<[f64; 3]> = at
+        .iter()
+        .map(|&i| line.points[i].position(ctx.mesh))
+        .collect();
+    crate::untangle::remove_loops(ctx, name, closed, &mut line.points)?;
+    let last = line.points.len().saturating_sub(1);
+    at = (0..line.points.len())
+        .filter(|&i| i == 0 || i == last || keep.contains(&line.points[i].position(ctx.mesh)))
+        .collect();
+    crate::untangle::separate(ctx, index, names, &mut line, &mut at)?;
+    if line.points.len() < 2 {
+        return Err(TrimError::BadLine {
+            line: name.to_string(),
+            reason: "all its points are at one place".to_string(),
+        });
+    }
+    line.length = line
+        .points
+        .windows(2)
+        .map(|w| vec3::dist(w[0].position(ctx.mesh), w[1].position(ctx.mesh)))
+        .sum();
+    Ok(line)
+}
+
+/// Joins landmarks by geodesics; also the index of each landmark in the line's points.
+fn join_marked(
     ctx: &LineContext,
     name: &str,
     closed: bool,
     marks: &[SurfacePoint],
-) -> Result<CutLine, TrimError> {
+) -> Result<(CutLine, Vec<usize>), TrimError> {
     let mesh = ctx.mesh;
     let mut points: Vec<SurfacePoint> = vec![marks[0]];
+    let mut at = vec![0];
     for (i, w) in marks.windows(2).enumerate() {
         let (p, q) = (w[0], w[1]);
         if crate::geodesic::same_place(mesh, p, q)
             || vec3::dist(p.position(mesh), q.position(mesh)) == 0.0
         {
+            at.push(points.len() - 1);
             continue;
         }
         let adjacent = match (p.location(mesh), q.location(mesh)) {
@@ -403,6 +450,7 @@ fn join(
         };
         if adjacent {
             points.push(q);
+            at.push(points.len() - 1);
             continue;
         }
         let g = ctx.solver.path(p, q).ok_or(TrimError::NoPath {
@@ -411,6 +459,7 @@ fn join(
             to: i + 1,
         })?;
         points.extend_from_slice(&g.points[1..]);
+        at.push(points.len() - 1);
     }
     if closed {
         let first = points[0];
@@ -428,10 +477,13 @@ fn join(
         .windows(2)
         .map(|w| vec3::dist(w[0].position(mesh), w[1].position(mesh)))
         .sum();
-    Ok(CutLine {
-        name: name.to_string(),
-        closed,
-        points,
-        length,
-    })
+    Ok((
+        CutLine {
+            name: name.to_string(),
+            closed,
+            points,
+            length,
+        },
+        at,
+    ))
 }

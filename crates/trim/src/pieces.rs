@@ -217,9 +217,35 @@ pub(crate) fn name_pieces(
         }
         let p = split.face_piece[cp.face.idx()] as usize;
         if let Some(prev) = named[p] {
+            // The nearest line, for the message.
+            let (near_mm, near_line) = emb
+                .line_vertices
+                .iter()
+                .enumerate()
+                .flat_map(|(li, ch)| ch.windows(2).map(move |w| (li, w[0], w[1])))
+                .map(|(li, a, b)| {
+                    let (pa, pb) = (
+                        emb.mesh.positions[a as usize],
+                        emb.mesh.positions[b as usize],
+                    );
+                    let d = vec3::sub(pb, pa);
+                    let l2 = vec3::norm2(d);
+                    let t = if l2 > 0.0 {
+                        (vec3::dot(vec3::sub(cp.point, pa), d) / l2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                    (vec3::dist(cp.point, vec3::add(pa, vec3::scale(d, t))), li)
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0))
+                .map_or((f64::INFINITY, String::new()), |(d, li)| {
+                    (d, lines[li].name.clone())
+                });
             return Err(TrimError::SeedUsedTwice {
                 first: seeds[prev].name.clone(),
                 second: s.name.clone(),
+                near_line,
+                near_mm,
             });
         }
         named[p] = Some(si);

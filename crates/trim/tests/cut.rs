@@ -280,7 +280,7 @@ fn bad_input_names_the_culprit() {
         vec3::scale(vec3::normalize([0.2, -1.0, 0.1]), r),
     ));
     match trim(&mesh, &c).unwrap_err() {
-        TrimError::SeedUsedTwice { first, second } => {
+        TrimError::SeedUsedTwice { first, second, .. } => {
             assert_eq!((first.as_str(), second.as_str()), ("south", "south-again"))
         }
         e => panic!("{e}"),
