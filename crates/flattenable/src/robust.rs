@@ -416,14 +416,15 @@ pub fn run_from(
             // Before paying for a new factorisation at a larger damping, try fractions of
             // the same step: the linear model is exact to first order, so a short enough
             // step along d achieves its predicted decrease f − ‖b − α A d‖². A try costs a θ
-            // evaluation and a fold check. The damping still rises as after a rejection, so
-            // the next iterations stay as cautious as before.
+            // evaluation and a fold check. The damping then doubles (as after a step with
+            // ρ < 1/4): ×4 as after a plain rejection stalled the 100k-face cap at 1.4e-6,
+            // ×2 converged it in 111 iterations instead of 283.
             if ls.is_none()
                 && let Some((short, f_short)) =
                     backtrack(piece, layout, &pos, &interior, &d, &b, &ad, f, n)
             {
                 report.backtracked_steps += 1;
-                mu *= 4.0;
+                mu *= 2.0;
                 accepted = Some((short, f_short));
                 break;
             }
