@@ -50,6 +50,18 @@ pub fn normalize(a: [f64; 3]) -> [f64; 3] {
 pub fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     norm(sub(a, b))
 }
+/// Distance from `p` to the segment `a`–`b` (a degenerate segment is the point `a`).
+#[inline]
+pub fn point_segment_distance(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d = sub(b, a);
+    let l2 = norm2(d);
+    let t = if l2 > 0.0 {
+        (dot(sub(p, a), d) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    dist(p, add(a, scale(d, t)))
+}
 /// The angle between a and b in radians, in the stable atan2 form
 /// (|a × b|, a · b), exact near 0 and π where acos is not.
 #[inline]

@@ -307,3 +307,19 @@ proptest! {
         }
     }
 }
+
+/// Closed forms: the foot of the perpendicular inside the segment, beyond either end (the
+/// distance to that end point), and a degenerate segment (the distance to its point).
+#[test]
+fn point_segment_distance_closed_forms() {
+    use flatcut_mesh::vec3::point_segment_distance;
+    let (a, b) = ([1.0, 2.0, 3.0], [4.0, 6.0, 3.0]); // length 5 along (0.6, 0.8, 0)
+    // 2 above the midpoint along z.
+    assert!((point_segment_distance([2.5, 4.0, 5.0], a, b) - 2.0).abs() < 1e-15);
+    // 3 past b along the segment and 4 off it: distance to b is 5.
+    let past_b = [4.0 + 1.8 - 3.2, 6.0 + 2.4 + 2.4, 3.0];
+    assert!((point_segment_distance(past_b, a, b) - 5.0).abs() < 1e-12);
+    // Before a along the segment: distance to a.
+    assert!((point_segment_distance([1.0 - 0.6, 2.0 - 0.8, 3.0], a, b) - 1.0).abs() < 1e-15);
+    assert!((point_segment_distance([1.0, 2.0, 7.0], a, a) - 4.0).abs() < 1e-15);
+}

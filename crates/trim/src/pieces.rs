@@ -199,14 +199,7 @@ pub(crate) fn name_pieces(
                     emb.mesh.positions[a as usize],
                     emb.mesh.positions[b as usize],
                 );
-                let d = vec3::sub(pb, pa);
-                let l2 = vec3::norm2(d);
-                let t = if l2 > 0.0 {
-                    (vec3::dot(vec3::sub(cp.point, pa), d) / l2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let dist = vec3::dist(cp.point, vec3::add(pa, vec3::scale(d, t)));
+                let dist = vec3::point_segment_distance(cp.point, pa, pb);
                 if dist <= SEED_ON_LINE_RELATIVE * diag {
                     return Err(TrimError::SeedOnLine {
                         piece: s.name.clone(),
@@ -228,14 +221,7 @@ pub(crate) fn name_pieces(
                         emb.mesh.positions[a as usize],
                         emb.mesh.positions[b as usize],
                     );
-                    let d = vec3::sub(pb, pa);
-                    let l2 = vec3::norm2(d);
-                    let t = if l2 > 0.0 {
-                        (vec3::dot(vec3::sub(cp.point, pa), d) / l2).clamp(0.0, 1.0)
-                    } else {
-                        0.0
-                    };
-                    (vec3::dist(cp.point, vec3::add(pa, vec3::scale(d, t))), li)
+                    (vec3::point_segment_distance(cp.point, pa, pb), li)
                 })
                 .min_by(|x, y| x.0.total_cmp(&y.0))
                 .map_or((f64::INFINITY, String::new()), |(d, li)| {

@@ -257,24 +257,13 @@ impl SegIndex {
         let mut out = Vec::new();
         for f in ctx.faces_of(p) {
             for &(li, a, b) in self.by_face.get(&f).into_iter().flatten() {
-                if !out.contains(&li) && seg_dist(x, a, b) <= tol {
+                if !out.contains(&li) && vec3::point_segment_distance(x, a, b) <= tol {
                     out.push(li);
                 }
             }
         }
         out
     }
-}
-
-fn seg_dist(x: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
-    let d = vec3::sub(b, a);
-    let l = vec3::norm2(d);
-    let s = if l > 0.0 {
-        (vec3::dot(vec3::sub(x, a), d) / l).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    vec3::dist(x, vec3::add(a, vec3::scale(d, s)))
 }
 
 /// Does the segment `p q` run along the mesh boundary? There it cuts nothing, so lines may

@@ -4,7 +4,7 @@ use std::collections::{HashMap, HashSet};
 
 use flatcut_mesh::TriMesh;
 use flatcut_mesh::geometry::corner_angles;
-use flatcut_mesh::vec3::{add, dist, dot, scale, sub};
+use flatcut_mesh::vec3::{dist, point_segment_distance};
 
 use super::{VertexOrigin, WireCurve};
 
@@ -16,16 +16,7 @@ pub(super) fn deviation(
     guides: &[WireCurve],
 ) -> Option<f64> {
     let seg_dist = |pts: &[[f64; 3]], s: usize| -> f64 {
-        let a = pts[s];
-        let b = pts[(s + 1).min(pts.len() - 1)];
-        let ab = sub(b, a);
-        let l2 = dot(ab, ab);
-        let t = if l2 > 0.0 {
-            (dot(sub(p, a), ab) / l2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        dist(p, add(a, scale(ab, t)))
+        point_segment_distance(p, pts[s], pts[(s + 1).min(pts.len() - 1)])
     };
     match o {
         VertexOrigin::CurvePoint { curve, point } => Some(dist(p, curves[curve].points[point])),
