@@ -326,3 +326,90 @@ fn a_missing_wireframe_names_the_file_and_the_toml_line() {
         .to_string();
     assert!(e.contains("input.") && e.contains("not both"), "{e}");
 }
+
+#[test]
+fn a_cut_landmark_off_the_surface_names_its_cut_line_and_point() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    // The cap (R = 200 mm, 60°) has its pole at (0, 0, 200) and lies above z = 170 mm;
+    // (150, 0, 0) is far below it.
+    let text = format!(
+        "{GOOD}\n[[cut]]\nname = \"across\"\npoints = [[0.0, 0.0, 200.0], [150.0, 0.0, 0.0]]\n"
+    );
+    let e = run_in(&text, tmp.path(), &out, false)
+        .unwrap_err()
+        .to_string();
+    // Located at the [[cut]] table (line 7), naming the line and the point's index.
+    assert!(e.contains("t.toml:7:1: cut:"), "{e}");
+    assert!(
+        e.contains("line \"across\" point 1") && e.contains("mm from the surface"),
+        "{e}"
+    );
+    assert!(!out.exists(), "a failed run must leave no output folder");
+}
+
+#[test]
+fn an_output_key_naming_a_file_is_refused_at_its_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("taken"), "x").unwrap();
+    let text = GOOD.replace("name = \"t\"\n", "name = \"t\"\noutput = \"taken\"\n");
+    let toml = tmp.path().join("t.toml");
+    std::fs::write(&toml, &text).unwrap();
+    let p = Pipeline::read(&toml).unwrap();
+    let e = flatcut_pipeline::run(
+        &p,
+        &RunOptions {
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.starts_with(&format!("{}:3:10: output:", toml.display())) && e.contains("existing file"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read(tmp.path().join("taken")).unwrap(), b"x");
+}
+
+#[test]
+fn absolute_mesh_and_output_paths_are_used_as_given() {
+    let tmp = tempfile::tempdir().unwrap();
+    // The mesh and the output live outside the TOML's folder, named by absolute paths.
+    let elsewhere = tmp.path().join("elsewhere");
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    let mesh = elsewhere.join("cap.obj");
+    let cap = flatcut_mesh::shapes::sphere_cap_grid(7, 60f64.to_radians(), 200.0);
+    flatcut_io::write_mesh(&mesh, &cap, &Default::default()).unwrap();
+    let out = elsewhere.join("results");
+    let dir = tmp.path().join("recipes");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = format!(
+        "schema = 1\nname = \"abs\"\noutput = {:?}\n[input]\nmesh = {:?}\n",
+        out.display().to_string(),
+        mesh.display().to_string()
+    );
+    assert!(mesh.is_absolute() && out.is_absolute());
+    let toml = dir.join("abs.toml");
+    std::fs::write(&toml, &text).unwrap();
+    let p = Pipeline::read(&toml).unwrap();
+    flatcut_pipeline::run(
+        &p,
+        &RunOptions {
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(r["input_mesh"]["faces"], cap.face_count());
+    assert_eq!(
+        r["inputs"][0]["bytes"],
+        std::fs::metadata(&mesh).unwrap().len()
+    );
+    assert!(
+        !dir.join("out").exists(),
+        "nothing is written beside the TOML"
+    );
+}

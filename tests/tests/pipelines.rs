@@ -149,6 +149,15 @@ fn every_bundled_pipeline_runs_and_its_report_describes_the_folder() {
             html.matches("src=\"data:image/png;base64,").count(),
             7 * pieces
         );
+        // The sheet shown is sheet.svg itself, byte for byte.
+        if let Some(svg) = got.get("sheet.svg") {
+            let embedded = html
+                .split_once("src=\"data:image/svg+xml;base64,")
+                .and_then(|(_, rest)| rest.split_once('"'))
+                .map(|(b64, _)| b64)
+                .expect("report.html embeds the sheet");
+            assert!(decode_base64(embedded) == *svg, "{}", path.display());
+        }
         // No non-finite number in the text (the base64 pictures left out: they may hold any
         // letters).
         let text: String = html
@@ -177,6 +186,47 @@ fn every_bundled_pipeline_runs_and_its_report_describes_the_folder() {
         // No temporary file is left behind.
         assert!(got.keys().all(|k| !k.ends_with(".tmp")), "{:?}", got.keys());
     }
+}
+
+/// Standard base64 (RFC 4648, with padding), decoded here independently of the encoder.
+fn decode_base64(s: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => c - b'A',
+        b'a'..=b'z' => c - b'a' + 26,
+        b'0'..=b'9' => c - b'0' + 52,
+        b'+' => 62,
+        b'/' => 63,
+        _ => panic!("not base64: {c:?}"),
+    };
+    let mut out = Vec::with_capacity(s.len() / 4 * 3);
+    for chunk in s.as_bytes().chunks(4) {
+        let n = chunk.iter().filter(|&&c| c != b'=').count();
+        let mut acc = 0u32;
+        for (i, &c) in chunk.iter().enumerate() {
+            let v = if c == b'=' { 0 } else { value(c) };
+            acc |= u32::from(v) << (18 - 6 * i);
+        }
+        out.extend_from_slice(&acc.to_be_bytes()[1..n]);
+    }
+    out
+}
+
+/// The points of the SVG path with id `id` (its `d` holds only M/L/Z and coordinates).
+fn svg_path_points(svg: &str, id: &str) -> Vec<[f64; 2]> {
+    let at = svg
+        .find(&format!("id=\"{id}\""))
+        .unwrap_or_else(|| panic!("no {id}"));
+    let d = svg[at..]
+        .split_once(" d=\"")
+        .and_then(|(_, rest)| rest.split_once('"'))
+        .unwrap()
+        .0;
+    let nums: Vec<f64> = d
+        .split(|c: char| c == ' ' || c.is_ascii_alphabetic())
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().unwrap())
+        .collect();
+    nums.chunks(2).map(|c| [c[0], c[1]]).collect()
 }
 
 /// Everything but timings.json must be byte-identical.
@@ -737,4 +787,82 @@ fn darts_and_features_give_identical_bytes_on_one_or_two_threads() {
     run(&toml, &one, Some(1));
     run(&toml, &two, Some(2));
     assert_same_outputs(&one, &two, "dart cap: 1 vs 2 threads");
+}
+
+/// One cap piece with `lines` added to its [[piece]] table, written as SVG only.
+fn cap_piece_toml(lines: &str) -> String {
+    format!(
+        r#"schema = 1
+name = "cap-piece"
+
+[input]
+generator = {{ kind = "sphere-cap", n = 11, cap_angle_deg = 60.0, radius_mm = 200.0 }}
+
+[[piece]]
+name = "cap"
+seed = [0.0, 0.0, 200.0]
+{lines}
+
+[export]
+formats = ["svg"]
+"#
+    )
+}
+
+#[test]
+fn quantity_two_mirrored_places_a_drawn_and_a_mirrored_copy_on_the_sheet() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, dir) = run_text(
+        &cap_piece_toml("quantity = 2\nmirror = true"),
+        tmp.path(),
+        "q",
+    );
+    let p = &out.report.pieces[0];
+    assert_eq!((p.quantity, p.mirror), (2, true));
+    let sheet = std::fs::read_to_string(dir.join("sheet.svg")).unwrap();
+    // Two copies, labelled for the cutter, and no third.
+    assert_eq!(sheet.matches("data-piece=\"cap\"").count(), 2, "{sheet}");
+    assert!(sheet.contains("cut 2, mirrored"));
+    let a = svg_path_points(&sheet, "cap-0-cut-line");
+    let b = svg_path_points(&sheet, "cap-1-cut-line");
+    assert_eq!(a.len(), b.len());
+    // Copy 1 is copy 0 mirrored left–right and moved: x_a + x_b and y_b − y_a are the same
+    // for every point (to the file's 0.001 mm), while x_b − x_a is not (not a translation).
+    let (sx, dy) = (a[0][0] + b[0][0], b[0][1] - a[0][1]);
+    let mut spread: f64 = 0.0;
+    for (p, q) in a.iter().zip(&b) {
+        assert!((p[0] + q[0] - sx).abs() <= 2e-3, "{p:?} {q:?}");
+        assert!((q[1] - p[1] - dy).abs() <= 2e-3, "{p:?} {q:?}");
+        spread = spread.max(((q[0] - p[0]) - (b[0][0] - a[0][0])).abs());
+    }
+    assert!(
+        spread > 50.0,
+        "copy 1 is a translation, not a mirror: {spread}"
+    );
+}
+
+#[test]
+fn a_piece_grain_turns_the_pattern_so_that_it_runs_up_the_sheet() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (_, along_y) = run_text(&cap_piece_toml("grain = [0.0, 1.0, 0.0]"), tmp.path(), "y");
+    let (_, along_x) = run_text(&cap_piece_toml("grain = [1.0, 0.0, 0.0]"), tmp.path(), "x");
+    let read = |dir: &Path| {
+        flatcut_io::read_mesh(&dir.join("pieces/cap.obj"), flatcut_io::Units::Mm)
+            .unwrap()
+            .mesh
+            .positions
+    };
+    let (uy, ux) = (read(&along_y), read(&along_x));
+    assert_eq!(uy.len(), ux.len());
+    // Same flattening, so the 3D x axis that runs along +x with grain y must run along +y with
+    // grain x: the second pattern is the first turned a quarter anticlockwise, (u, v) → (−v, u),
+    // up to a translation.
+    let (oy, ox) = (uy[0], ux[0]);
+    for (p, q) in uy.iter().zip(&ux) {
+        let (d, e) = ([p[0] - oy[0], p[1] - oy[1]], [q[0] - ox[0], q[1] - ox[1]]);
+        assert!(
+            (e[0] + d[1]).abs() <= 1e-6 && (e[1] - d[0]).abs() <= 1e-6,
+            "{d:?} → {e:?}"
+        );
+    }
 }

@@ -65,10 +65,17 @@ fn no_argument_runs_the_bundled_demo_identically_on_one_and_two_threads() {
     assert!(text.starts_with("wetsuit-demo: "), "{text}");
     assert!(text.contains("out/wetsuit-demo"), "{text}");
     let fa = files(&dir);
+    // The folder the README promises: the sheet in every format, the pattern DXF, the 3D
+    // pieces, the seams, the report and its page.
     for f in [
         "report.json",
+        "report.html",
         "processed.glb",
         "seams.json",
+        "sheet.svg",
+        "sheet.png",
+        "sheet.pdf",
+        "pattern.dxf",
         ".flatcut-pipeline",
     ] {
         assert!(fa.contains_key(f), "{f} missing: {:?}", fa.keys());
@@ -79,9 +86,16 @@ fn no_argument_runs_the_bundled_demo_identically_on_one_and_two_threads() {
     assert_eq!(report["inputs"].as_array().unwrap().len(), 0);
     assert_eq!(report["generator"]["kind"], "dress-form");
     assert_eq!(report["generator"]["bust_mm"], 920.0);
-    // One summary line per piece.
+    // One summary line per piece, and each piece's own files.
     for p in report["pieces"].as_array().unwrap() {
         let name = p["name"].as_str().unwrap();
+        for ext in ["svg", "png", "exr", "dxf", "obj"] {
+            let f = format!("pieces/{name}.{ext}");
+            assert!(
+                fa.get(&f).is_some_and(|b| !b.is_empty()),
+                "{f} missing or empty"
+            );
+        }
         assert!(
             text.lines().any(|l| l.trim_start().starts_with(name)),
             "{name}: {text}"

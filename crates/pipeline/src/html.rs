@@ -159,7 +159,18 @@ fn convergence_plot(history: &[f64], tolerance: f64) -> String {
     s
 }
 
-/// Every piece's outline side by side at true relative size.
+/// The cutting sheet as written to sheet.svg (seam allowance, notches, grain, labels, layout,
+/// quantities and mirrored copies), embedded as an SVG data URI so that the page stays one
+/// self-contained file and the sheet's own ids and styles cannot clash with the page's.
+fn sheet_image(sheet_svg: &[u8]) -> String {
+    format!(
+        "<img class=\"sheet\" alt=\"the cutting sheet (sheet.svg)\" src=\"data:image/svg+xml;base64,{}\">",
+        base64(sheet_svg)
+    )
+}
+
+/// Without sheet.svg (no `svg` among the formats): every piece's flattened outline side by
+/// side at true relative size, without allowance or layout.
 fn sheet(report: &Report, pictures: &[PiecePictures]) -> String {
     let mut x0 = 0.0;
     let mut height: f64 = 0.0;
@@ -210,7 +221,15 @@ fn sheet(report: &Report, pictures: &[PiecePictures]) -> String {
 }
 
 /// The whole page.
-pub fn report_html(report: &Report, pictures: &[PiecePictures], tolerance_rad: f64) -> String {
+///
+/// `sheet_svg` is the bytes of sheet.svg when the run writes it; without it the page shows the
+/// flattened outlines instead, and says so.
+pub fn report_html(
+    report: &Report,
+    pictures: &[PiecePictures],
+    sheet_svg: Option<&[u8]>,
+    tolerance_rad: f64,
+) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -258,7 +277,13 @@ figcaption{{text-align:center;font-size:12px}}.piece{{border-top:1px solid #ccc;
     }
 
     s.push_str("<h2>Sheet</h2>\n");
-    s.push_str(&sheet(report, pictures));
+    match sheet_svg {
+        Some(svg) => s.push_str(&sheet_image(svg)),
+        None => {
+            s.push_str("<p>No sheet.svg in this run's formats: the flattened outlines (sew lines, no allowance).</p>");
+            s.push_str(&sheet(report, pictures));
+        }
+    }
 
     s.push_str("\n<h2>Pieces</h2><table><tr><th class=\"l\">piece</th><th>faces</th><th>θ_err before</th><th>θ_err after</th><th>it</th><th>RMS disp mm</th><th>max disp mm</th><th>area %</th><th>E_h mean</th><th>E_h p95</th><th>E_h max</th><th>E_r mean</th><th>E_r p95</th><th>E_r max</th><th>max strain</th><th>boundary 3D mm</th><th>boundary 2D mm</th></tr>");
     for p in &report.pieces {

@@ -91,7 +91,8 @@ pub fn run(p: &Pipeline, opts: &RunOptions) -> Result<RunOutcome, PipelineError>
     let out_dir = opts.out.clone().unwrap_or_else(|| p.default_output());
     let inputs = input_paths(p);
     // Refuse a bad folder before spending the time.
-    output::check(&out_dir, p.name(), opts.force, &inputs, &[])?;
+    output::check(&out_dir, p.name(), opts.force, &inputs, &[])
+        .map_err(|e| locate_output_error(p, opts, e))?;
     let progress = Progress::new(opts.quiet, p.name());
     let computed = with_threads(opts.threads, || compute(p, &progress))?;
     let names: Vec<String> = computed.files.keys().cloned().collect();
@@ -111,6 +112,22 @@ pub fn run(p: &Pipeline, opts: &RunOptions) -> Result<RunOutcome, PipelineError>
 }
 
 /// Runs `f` on a pool of `threads` workers, or on rayon's global pool.
+/// A folder path that is a file came from the TOML's `output` unless `--out` was given: then
+/// the error names that line, as every other error in the file does.
+fn locate_output_error(p: &Pipeline, opts: &RunOptions, e: PipelineError) -> PipelineError {
+    match (&e, &opts.out, &p.spec.output) {
+        (PipelineError::OutputIsFile { path }, None, Some(key)) => p.invalid(
+            key.span(),
+            "output",
+            format!(
+                "the output folder {} is an existing file; name a folder here or pass --out",
+                path.display()
+            ),
+        ),
+        _ => e,
+    }
+}
+
 fn with_threads<T: Send>(
     threads: Option<usize>,
     f: impl FnOnce() -> Result<T, PipelineError> + Send,
@@ -778,7 +795,12 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         .zip(&flat)
         .map(|((piece, pr), (topo, f))| pictures(piece, &pr.processed.mesh, topo, f))
         .collect();
-    let html = report_html(&report, &pictures, p.spec.process.tolerance_rad);
+    let html = report_html(
+        &report,
+        &pictures,
+        files.get("sheet.svg").map(Vec::as_slice),
+        p.spec.process.tolerance_rad,
+    );
     files.insert("report.html".into(), html.into_bytes());
     report.files = files
         .iter()
