@@ -178,6 +178,28 @@ impl Piece {
             .to_degrees();
     }
 
+    /// Mean length of each interior vertex's incident edges in the input (each edge is
+    /// counted once per incident face, i.e. twice for an interior edge: same mean).
+    pub fn interior_edge_lengths(&self) -> Vec<f64> {
+        let mut sum = vec![0.0; self.pos0.len()];
+        let mut count = vec![0u32; self.pos0.len()];
+        for f in &self.faces {
+            for k in 0..3 {
+                let (a, b) = (f[k] as usize, f[(k + 1) % 3] as usize);
+                let l = flatcut_mesh::vec3::dist(self.pos0[a], self.pos0[b]);
+                for v in [a, b] {
+                    sum[v] += l;
+                    count[v] += 1;
+                }
+            }
+        }
+        self.layout
+            .interior
+            .iter()
+            .map(|&p| sum[p as usize] / f64::from(count[p as usize].max(1)))
+            .collect()
+    }
+
     /// Area-weighted unit vertex normals of the interior vertices at `positions`.
     pub fn interior_normals(&self, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
         let mut acc = vec![[0.0; 3]; positions.len()];

@@ -158,6 +158,8 @@ pub fn run_from(
     // Extra per-vertex stiffness (≥ 1) earned by vertices of faces that would fold.
     let mut stiff = vec![1.0f64; n];
     let mut mu = MU_START;
+    // Per interior vertex: the mean length of its input edges, the scale of its steps.
+    let reach = piece.interior_edge_lengths();
     let limit = opts.iteration_limit();
     report.stop_reason = "iteration limit".into();
     loop {
@@ -321,6 +323,19 @@ pub fn run_from(
                 report.rejected_steps += 1;
                 continue;
             };
+            // No vertex moves farther than the linearisation reaches (`STEP_CAP_EDGES`).
+            let longest = d
+                .iter()
+                .zip(&reach)
+                .map(|(v, l)| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt() / l)
+                .fold(0.0f64, f64::max);
+            let truncated = ls.is_none() && longest > STEP_CAP_EDGES;
+            let d = if truncated {
+                let a = STEP_CAP_EDGES / longest;
+                d.iter().map(|v| [a * v[0], a * v[1], a * v[2]]).collect()
+            } else {
+                d
+            };
             let v_star: Vec<[f64; 3]> = interior
                 .iter()
                 .zip(&d)
@@ -404,7 +419,9 @@ pub fn run_from(
                 -1.0
             };
             if f_trial.is_finite() && f_trial < f && rho > RHO_ACCEPT {
-                if rho > 0.75 {
+                if truncated {
+                    // The damping did not bound the step: do not lower it further.
+                } else if rho > 0.75 {
                     mu = (mu / MU_DOWN).max(MU_MIN);
                 } else if rho < 0.25 {
                     mu *= 2.0;
@@ -457,6 +474,17 @@ pub fn run_from(
 
 /// Step fractions tried along a rejected direction before the damping is raised.
 const BACKTRACKS: usize = 3;
+
+/// The longest step any interior vertex may take in one iteration, in its mean input edge
+/// lengths. The linearisation of θ is good for about one edge length; at small damping the
+/// least-norm step can be several (4 edge lengths on the 160×160 cap), and such a step, even
+/// when the linear model rates it well (ρ = 0.84 there), can leave the surface where A Aᵀ is
+/// nearly singular in the direction of the residual, so that no small step reduces it (that
+/// cap then stalled at θ_err 1.7e-5). A longer step is shortened to this length along its
+/// direction, and the damping is not lowered after it. 2 edge lengths: 0.5 and 1 also
+/// unstalled that cap but cost more iterations on the 100×100 and 130×130 caps
+/// (docs/algorithms/flattenable.md, "Step length cap").
+const STEP_CAP_EDGES: f64 = 2.0;
 
 /// The first of α = 1/2, 1/4, … (`BACKTRACKS` tries) for which `pos + α d` has no folded
 /// face and a real decrease of the merit against the linear model's prediction (ρ above
