@@ -413,3 +413,32 @@ fn absolute_mesh_and_output_paths_are_used_as_given() {
         "nothing is written beside the TOML"
     );
 }
+
+#[test]
+fn the_keys_of_the_issues_example_are_accepted_as_aliases() {
+    // `chest_mm` for the dress form's bust girth and `weld_mm` for the weld tolerance, as a
+    // recipe written from the original specification names them.
+    let text = r#"schema = 1
+name = "t"
+[input]
+generator = { kind = "dress-form", chest_mm = 920, waist_mm = 760, hip_mm = 980, height_mm = 1700 }
+clean = { weld_mm = 0.01, keep = "largest" }
+"#;
+    let p = parse(text).unwrap_or_else(|e| panic!("{e}"));
+    let clean = &p.spec.input.get_ref().clean;
+    assert_eq!(clean.weld_tolerance_mm, 0.01);
+    match p
+        .spec
+        .input
+        .get_ref()
+        .generator
+        .as_ref()
+        .map(|g| g.get_ref())
+    {
+        Some(flatcut_pipeline::spec::Generator::DressForm(m)) => assert_eq!(m.bust_mm, 920.0),
+        other => panic!("{other:?}"),
+    }
+    // Both names at once is still an error (one definition of each parameter).
+    let both = text.replace("chest_mm = 920", "chest_mm = 920, bust_mm = 900");
+    assert!(parse(&both).is_err());
+}

@@ -37,7 +37,9 @@ pub struct CleanOptions {
     /// tolerance also merges distinct vertices of thin features (the two sides of a narrow
     /// fold, the lips of a small cut) and so can change the topology; set it only knowing the
     /// scan's resolution. Merging is transitive (a chain of close vertices becomes one), and the
-    /// lowest-index vertex of each group is kept at its own position.
+    /// lowest-index vertex of each group is kept at its own position. `weld_mm` is accepted
+    /// for it.
+    #[serde(alias = "weld_mm")]
     pub weld_tolerance_mm: f64,
     /// Refuse a weld whose merged vertex would be non-manifold (or on a non-manifold edge)
     /// where the input was not: coincident corners of two scan holes stay apart instead of

@@ -517,7 +517,9 @@ pub fn catalogue() -> Vec<(&'static str, TriMesh)> {
 pub struct BodyMeasurements {
     /// Body height, floor to crown (default 1680 mm); places the landmarks vertically.
     pub height_mm: f64,
-    /// Bust circumference at the bust points (default 880 mm).
+    /// Bust circumference at the bust points (default 880 mm). `chest_mm` is accepted for it
+    /// (the same girth on a men's size chart).
+    #[serde(alias = "chest_mm")]
     pub bust_mm: f64,
     /// Natural waist circumference (default 700 mm).
     pub waist_mm: f64,
