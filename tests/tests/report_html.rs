@@ -23,14 +23,11 @@ fn chromium() -> Option<PathBuf> {
     Some(bin)
 }
 
-#[test]
-fn report_html_loads_in_headless_chromium_without_console_messages() {
-    let Some(browser) = chromium() else {
-        eprintln!("FLATCUT_CHROMIUM unset: report.html browser check skipped");
-        return;
-    };
+/// Runs the bundled pipeline `name`, opens its report.html in headless Chromium and checks
+/// that it loads with no console message and a screenshot that is not blank.
+fn check_report(browser: &Path, name: &str) -> tiny_skia::Pixmap {
     let tmp = tempfile::tempdir().unwrap();
-    let toml = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/patch-demo.toml");
+    let toml = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../pipelines/{name}.toml"));
     let out = tmp.path().join("o");
     flatcut_pipeline::run(
         &Pipeline::read(&toml).unwrap(),
@@ -62,10 +59,10 @@ fn report_html_loads_in_headless_chromium_without_console_messages() {
         .output()
         .unwrap();
     let log = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "chromium failed: {log}");
+    assert!(run.status.success(), "{name}: chromium failed: {log}");
     // Chromium logs every console message (errors, uncaught exceptions) as `:CONSOLE`.
     let console: Vec<&str> = log.lines().filter(|l| l.contains(":CONSOLE")).collect();
-    assert!(console.is_empty(), "console messages: {console:#?}");
+    assert!(console.is_empty(), "{name}: console messages: {console:#?}");
     // Non-blank: plenty of pixels that are not the white background, in several colours.
     let pm = tiny_skia::Pixmap::decode_png(&std::fs::read(&shot).unwrap()).unwrap();
     let px = pm.pixels();
@@ -75,12 +72,36 @@ fn report_html_loads_in_headless_chromium_without_console_messages() {
         .count();
     assert!(
         inked * 20 > px.len(),
-        "only {inked} of {} pixels are not white",
+        "{name}: only {inked} of {} pixels are not white",
         px.len()
     );
     let mut colours: Vec<(u8, u8, u8)> =
         px.iter().map(|c| (c.red(), c.green(), c.blue())).collect();
     colours.sort_unstable();
     colours.dedup();
-    assert!(colours.len() > 50, "{} colours", colours.len());
+    assert!(colours.len() > 50, "{name}: {} colours", colours.len());
+    pm
+}
+
+#[test]
+fn report_html_loads_in_headless_chromium_without_console_messages() {
+    let Some(browser) = chromium() else {
+        eprintln!("FLATCUT_CHROMIUM unset: report.html browser check skipped");
+        return;
+    };
+    check_report(&browser, "patch-demo");
+    // The main demo: its sheet is sheet.svg embedded as an image, with the 50 mm test square
+    // filled pure blue (#0000ff), a colour nothing else on the page uses (the maps and
+    // legends are viridis): blue pixels in the screenshot mean the embedded sheet rendered
+    // (its red cut lines are 0.01 mm hairlines, too thin to count at page scale).
+    let pm = check_report(&browser, "wetsuit-demo");
+    let blue = pm
+        .pixels()
+        .iter()
+        .filter(|c| c.blue() > 200 && c.red() < 60 && c.green() < 60)
+        .count();
+    assert!(
+        blue > 50,
+        "wetsuit-demo: {blue} blue pixels: the sheet did not render"
+    );
 }
