@@ -427,17 +427,11 @@ fn sofa_demo_makes_two_leather_pieces_from_wireframes() {
 /// optional `shrink = …` line.
 fn dart_cap_toml(feature_weight: f64, shrink: &str) -> String {
     let z = |r: f64| (200.0f64 * 200.0 - r * r).sqrt();
-    format!(
-        r#"schema = 1
-name = "dart-cap"
-
-[input]
-generator = {{ kind = "sphere-cap", n = 15, cap_angle_deg = 60.0, radius_mm = 200.0 }}
-
-[[piece]]
-name = "cap"
-seed = [0.0, 0.0, 200.0]
-grain = [0.0, 1.0, 0.0]
+    cap_toml(
+        "dart-cap",
+        15,
+        &format!(
+            r#"grain = [0.0, 1.0, 0.0]
 {shrink}
 darts = [{{ name = "d", from = [100.0, 0.0, {z100}], tip = [40.0, 0.0, {z40}] }}]
 features = [[[-10.0, -70.0, {z70}], [-10.0, 70.0, {z70}]]]
@@ -445,14 +439,33 @@ fabric = "neoprene"
 size = "38"
 
 [process]
-feature_weight = {feature_weight}
+feature_weight = {feature_weight}"#,
+            z100 = z(100.0),
+            z40 = z(40.0),
+            z70 = z((70.0f64 * 70.0 + 100.0).sqrt()),
+        ),
+    )
+}
+
+/// A pipeline on the 60° cap (R = 200 mm, an `n` × `n` grid) with one piece "cap" seeded at
+/// the pole, `lines` after its seed (more piece keys, then any further tables), written as
+/// SVG only.
+fn cap_toml(name: &str, n: usize, lines: &str) -> String {
+    format!(
+        r#"schema = 1
+name = "{name}"
+
+[input]
+generator = {{ kind = "sphere-cap", n = {n}, cap_angle_deg = 60.0, radius_mm = 200.0 }}
+
+[[piece]]
+name = "cap"
+seed = [0.0, 0.0, 200.0]
+{lines}
 
 [export]
 formats = ["svg"]
-"#,
-        z100 = z(100.0),
-        z40 = z(40.0),
-        z70 = z((70.0f64 * 70.0 + 100.0).sqrt()),
+"#
     )
 }
 
@@ -791,22 +804,7 @@ fn darts_and_features_give_identical_bytes_on_one_or_two_threads() {
 
 /// One cap piece with `lines` added to its [[piece]] table, written as SVG only.
 fn cap_piece_toml(lines: &str) -> String {
-    format!(
-        r#"schema = 1
-name = "cap-piece"
-
-[input]
-generator = {{ kind = "sphere-cap", n = 11, cap_angle_deg = 60.0, radius_mm = 200.0 }}
-
-[[piece]]
-name = "cap"
-seed = [0.0, 0.0, 200.0]
-{lines}
-
-[export]
-formats = ["svg"]
-"#
-    )
+    cap_toml("cap-piece", 11, lines)
 }
 
 #[test]
