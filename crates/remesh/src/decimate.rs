@@ -199,78 +199,16 @@ pub fn decimate(mesh: &TriMesh, opts: &DecimateOptions) -> Result<Decimated, Rem
         }
     }
     let ne = m.edge_count();
-    let best = |m: &HalfMesh, q: &[Quadric], e: u32| -> ([f64; 3], f64) {
-        let (a, b) = (m.to(2 * e + 1), m.to(2 * e));
-        let qq = qadd(&q[a as usize], &q[b as usize]);
-        let (pa, pb) = (m.pos[a as usize], m.pos[b as usize]);
-        let mid = scale(add(pa, pb), 0.5);
-        if let Some(p) = qoptimum(&qq) {
-            if dist(p, mid) <= MAX_OPTIMUM_OFFSET * dist(pa, pb) {
-                return (p, qeval(&qq, p).max(0.0));
-            }
-        }
-        [pa, pb, mid]
-            .into_iter()
-            .map(|p| (p, qeval(&qq, p).max(0.0)))
-            .min_by(|x, y| x.1.total_cmp(&y.1))
-            .unwrap_or((mid, 0.0))
-    };
-    let mut heap: BinaryHeap<Entry> = (0..ne as u32)
+    let heap: BinaryHeap<Entry> = (0..ne as u32)
         .into_par_iter()
-        .map(|e| Entry::new(best(&m, &q, e).1, e))
+        .map(|e| Entry::new(best_collapse(&m, &q, e).1, e))
         .collect::<Vec<_>>()
         .into();
     // The collapse loop is sequential: the input's BVH (for provenance and the quality
     // report, a quarter of the call on a 428k-face scan) is built on the other core meanwhile.
     let (bvh, ()) = rayon::join(
         || Bvh::build(mesh),
-        || {
-            let mut faces_left = mesh.faces.len();
-            // Edges refused by the checks wait here; they may pass once their neighbourhood changed.
-            let mut refused: Vec<u32> = Vec::new();
-            let mut rounds = 0;
-            while faces_left > opts.target_faces {
-                let Some(top) = heap.pop() else {
-                    // Give refused edges another chance while collapses keep happening.
-                    if refused.is_empty() || rounds >= MAX_RETRY_ROUNDS {
-                        break;
-                    }
-                    rounds += 1;
-                    heap.extend(
-                        refused
-                            .drain(..)
-                            .filter(|&e| !m.e_dead[e as usize])
-                            .map(|e| Entry::new(best(&m, &q, e).1, e)),
-                    );
-                    continue;
-                };
-                let e = top.edge();
-                if m.e_dead[e as usize] {
-                    continue;
-                }
-                // Lazy update: costs are only recomputed when popped; an edge whose current cost
-                // is no longer the smallest in the queue goes back in at that cost.
-                let (p, cost) = best(&m, &q, e);
-                let now = Entry::new(cost, e);
-                if now < top && heap.peek().is_some_and(|next| now < *next) {
-                    heap.push(now);
-                    continue;
-                }
-                let removed_faces = if m.is_boundary_e(e) { 1 } else { 2 };
-                let h = [2 * e + 1, 2 * e]
-                    .into_iter()
-                    .find(|&h| m.collapse_ok(h) && collapse_keeps_normals(&m, h, p));
-                let Some(h) = h else {
-                    refused.push(e);
-                    continue;
-                };
-                let (v0, v1) = (m.from(h), m.to(h));
-                m.collapse(h);
-                m.pos[v1 as usize] = p;
-                q[v1 as usize] = qadd(&q[v1 as usize], &q[v0 as usize]);
-                faces_left -= removed_faces;
-            }
-        },
+        || collapse_to_budget(&mut m, &mut q, heap, mesh.faces.len(), opts.target_faces),
     );
     let (out, _) = m.to_trimesh();
     let provenance: Vec<Provenance> = out
@@ -295,6 +233,82 @@ pub fn decimate(mesh: &TriMesh, opts: &DecimateOptions) -> Result<Decimated, Rem
         provenance,
         report,
     })
+}
+
+/// The cheapest position for collapsing edge `e` under the summed quadric of its ends, and
+/// its cost (≥ 0): the quadric's minimiser when it lies within `MAX_OPTIMUM_OFFSET` edge
+/// lengths of the midpoint, else the best of the ends and the midpoint.
+fn best_collapse(m: &HalfMesh, q: &[Quadric], e: u32) -> ([f64; 3], f64) {
+    let (a, b) = (m.to(2 * e + 1), m.to(2 * e));
+    let qq = qadd(&q[a as usize], &q[b as usize]);
+    let (pa, pb) = (m.pos[a as usize], m.pos[b as usize]);
+    let mid = scale(add(pa, pb), 0.5);
+    if let Some(p) = qoptimum(&qq) {
+        if dist(p, mid) <= MAX_OPTIMUM_OFFSET * dist(pa, pb) {
+            return (p, qeval(&qq, p).max(0.0));
+        }
+    }
+    [pa, pb, mid]
+        .into_iter()
+        .map(|p| (p, qeval(&qq, p).max(0.0)))
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .unwrap_or((mid, 0.0))
+}
+
+/// Collapses the cheapest allowed edges of `m` (queue `heap`) until at most `target_faces`
+/// of its `faces` remain or no collapse is allowed.
+fn collapse_to_budget(
+    m: &mut HalfMesh,
+    q: &mut [Quadric],
+    mut heap: BinaryHeap<Entry>,
+    faces: usize,
+    target_faces: usize,
+) {
+    let mut faces_left = faces;
+    // Edges refused by the checks wait here; they may pass once their neighbourhood changed.
+    let mut refused: Vec<u32> = Vec::new();
+    let mut rounds = 0;
+    while faces_left > target_faces {
+        let Some(top) = heap.pop() else {
+            // Give refused edges another chance while collapses keep happening.
+            if refused.is_empty() || rounds >= MAX_RETRY_ROUNDS {
+                break;
+            }
+            rounds += 1;
+            heap.extend(
+                refused
+                    .drain(..)
+                    .filter(|&e| !m.e_dead[e as usize])
+                    .map(|e| Entry::new(best_collapse(m, q, e).1, e)),
+            );
+            continue;
+        };
+        let e = top.edge();
+        if m.e_dead[e as usize] {
+            continue;
+        }
+        // Lazy update: costs are only recomputed when popped; an edge whose current cost
+        // is no longer the smallest in the queue goes back in at that cost.
+        let (p, cost) = best_collapse(m, q, e);
+        let now = Entry::new(cost, e);
+        if now < top && heap.peek().is_some_and(|next| now < *next) {
+            heap.push(now);
+            continue;
+        }
+        let removed_faces = if m.is_boundary_e(e) { 1 } else { 2 };
+        let h = [2 * e + 1, 2 * e]
+            .into_iter()
+            .find(|&h| m.collapse_ok(h) && collapse_keeps_normals(m, h, p));
+        let Some(h) = h else {
+            refused.push(e);
+            continue;
+        };
+        let (v0, v1) = (m.from(h), m.to(h));
+        m.collapse(h);
+        m.pos[v1 as usize] = p;
+        q[v1 as usize] = qadd(&q[v1 as usize], &q[v0 as usize]);
+        faces_left -= removed_faces;
+    }
 }
 
 /// Every face around either end of `h` that survives the collapse keeps its orientation
