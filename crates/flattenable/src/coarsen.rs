@@ -224,66 +224,31 @@ impl State<'_> {
 
     /// Whether v → u keeps a manifold disk of the same topology and acceptable shapes.
     fn valid(&self, v: u32, u: u32) -> bool {
-        // No allocation here: this runs for every neighbour of every candidate vertex, and
-        // its small vectors were 10 % of a 3.5k-face run (perf).
-        let mut shared = [INVALID; 2];
-        let mut count = 0usize;
-        for &f in &self.vfaces[v as usize] {
-            if self.faces[f as usize].contains(&u) {
-                if count == 2 {
-                    return false;
-                }
-                shared[count] = f;
-                count += 1;
-            }
-        }
+        let shared: Vec<u32> = self.vfaces[v as usize]
+            .iter()
+            .copied()
+            .filter(|&f| self.faces[f as usize].contains(&u))
+            .collect();
         // v is interior, so the edge (u, v) is interior: two faces.
-        if count != 2 {
+        if shared.len() != 2 {
             return false;
         }
-        let opposite = shared.map(|f| {
-            self.faces[f as usize]
-                .into_iter()
-                .find(|&w| w != u && w != v)
-                .unwrap_or(INVALID)
-        });
-        if opposite[0] == opposite[1] {
-            return false;
-        }
+        let opposite: Vec<u32> = shared
+            .iter()
+            .map(|&f| {
+                self.faces[f as usize]
+                    .into_iter()
+                    .find(|&w| w != u && w != v)
+                    .unwrap_or(INVALID)
+            })
+            .collect();
         // Link condition: the common neighbours of u and v are exactly the two opposite
         // vertices (otherwise the collapse makes a non-manifold edge or pinches the disk).
-        // u's neighbours in a stack array (a valence above its size falls back to scanning
-        // u's faces).
-        let mut ring = [INVALID; 32];
-        let mut len = 0usize;
-        let mut overflow = false;
-        for &f in &self.vfaces[u as usize] {
-            for w in self.faces[f as usize] {
-                if w != u && !ring[..len].contains(&w) {
-                    if len < ring.len() {
-                        ring[len] = w;
-                        len += 1;
-                    } else {
-                        overflow = true;
-                    }
-                }
-            }
-        }
-        let neighbour_of_u = |w: u32| {
-            if overflow {
-                self.vfaces[u as usize]
-                    .iter()
-                    .any(|&f| self.faces[f as usize].contains(&w))
-            } else {
-                ring[..len].contains(&w)
-            }
-        };
-        for &f in &self.vfaces[v as usize] {
-            for w in self.faces[f as usize] {
-                if w != u && w != v && !opposite.contains(&w) && neighbour_of_u(w) {
-                    return false;
-                }
-            }
+        let nv = self.neighbours(v);
+        let nu = self.neighbours(u);
+        let common = nv.iter().filter(|w| nu.binary_search(w).is_ok()).count();
+        if common != 2 || opposite[0] == opposite[1] {
+            return false;
         }
         for &w in &opposite {
             let faces = self.vfaces[w as usize].len();
