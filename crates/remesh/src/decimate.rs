@@ -8,7 +8,7 @@
 //! when a collapse changes the neighbourhood (that would grow the heap tenfold, and its
 //! cache misses dominated the run time).
 
-use std::collections::BinaryHeap;
+use dary_heap::OctonaryHeap;
 
 use flatcut_mesh::bvh::Bvh;
 use flatcut_mesh::vec3::{add, cross, dist, dot, norm, normalize, scale, sub};
@@ -131,7 +131,7 @@ fn qoptimum(q: &Quadric) -> Option<[f64; 3]> {
 }
 
 /// A queue entry: the collapse cost rounded to f32 in the high half, the edge in the low
-/// half, reversed so that `BinaryHeap` pops the cheapest edge first (ties: the lowest edge).
+/// half, reversed so that `OctonaryHeap` pops the cheapest edge first (ties: the lowest edge).
 /// Eight bytes compared as one integer instead of an (f64, u32) pair: the heap of every edge
 /// of a 428k-face scan (640k entries) is most of the decimation loop's memory traffic, and
 /// the order of costs that differ only beyond f32's 24 bits does not matter to the result.
@@ -199,7 +199,7 @@ pub fn decimate(mesh: &TriMesh, opts: &DecimateOptions) -> Result<Decimated, Rem
         }
     }
     let ne = m.edge_count();
-    let heap: BinaryHeap<Entry> = (0..ne as u32)
+    let heap: OctonaryHeap<Entry> = (0..ne as u32)
         .into_par_iter()
         .map(|e| Entry::new(best_collapse(&m, &q, e).1, e))
         .collect::<Vec<_>>()
@@ -260,7 +260,7 @@ fn best_collapse(m: &HalfMesh, q: &[Quadric], e: u32) -> ([f64; 3], f64) {
 fn collapse_to_budget(
     m: &mut HalfMesh,
     q: &mut [Quadric],
-    mut heap: BinaryHeap<Entry>,
+    mut heap: OctonaryHeap<Entry>,
     faces: usize,
     target_faces: usize,
 ) {
