@@ -523,6 +523,10 @@ fn cpu_ns() -> u64 {
         .sum()
 }
 
+/// `speed`: per grid size (env `SIZES`, comma-separated n of n×n caps; `REPS` runs each) the
+/// kernel timings and both targets' runs with their messages; `TRACE=1` adds θ_err per
+/// iteration, `C2F_LEVELS=0` solves without coarse-to-fine, `PROLONG=positions` switches the
+/// prolongation.
 fn speed() {
     use flatcut_flattenable::least_norm::{Layout, Metric};
     let reps: usize = std::env::var("REPS")
@@ -576,10 +580,20 @@ fn speed() {
             eval * 1e3
         );
         for target in [Target::Detail, Target::Zero] {
-            let opts = ProcessOptions {
+            let mut opts = ProcessOptions {
                 target,
                 ..Default::default()
             };
+            // Experiment knobs: C2F_LEVELS (0 = direct solve), PROLONG=positions.
+            if let Some(l) = std::env::var("C2F_LEVELS")
+                .ok()
+                .and_then(|s| s.parse().ok())
+            {
+                opts.coarse_to_fine.levels = l;
+            }
+            if std::env::var("PROLONG").as_deref() == Ok("positions") {
+                opts.coarse_to_fine.prolongation = flatcut_flattenable::Prolongation::Positions;
+            }
             let mut best = f64::INFINITY;
             let mut best_cpu = f64::INFINITY;
             let mut rep = None;
@@ -617,6 +631,13 @@ fn speed() {
                 best_cpu / chol / p.factorizations.max(1) as f64,
                 p.stop_reason,
             );
+            for m in &p.messages {
+                println!("    {m}");
+            }
+            if std::env::var_os("TRACE").is_some() {
+                let t: Vec<String> = p.theta_err.iter().map(|e| format!("{e:.1e}")).collect();
+                println!("    θ_err: {}", t.join(" "));
+            }
         }
     }
 }

@@ -25,6 +25,7 @@ use std::collections::BinaryHeap;
 
 use flatcut_mesh::vec3::{add, cross, dot, norm, scale, sub};
 use flatcut_mesh::{INVALID, Topology, TriMesh, VertexId};
+use smallvec::SmallVec;
 
 use crate::FlattenableError;
 
@@ -40,6 +41,10 @@ const MAX_NORMAL_TURN_DEG: f64 = 45.0;
 /// Smallest corner a collapse may create (degrees): the coarse level is itself processed,
 /// and slivers make A Aᵀ badly conditioned and trip the fold guard.
 const MIN_CORNER_DEG: f64 = 15.0;
+
+/// One-ring sizes kept on the stack (valence 6 is typical; 16 covers scan meshes' spread).
+const RING_INLINE: usize = 16;
+type Ring = SmallVec<[u32; RING_INLINE]>;
 
 /// Where a fine vertex lives on the coarse mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -206,14 +211,18 @@ struct State<'a> {
 }
 
 impl State<'_> {
-    fn neighbours(&self, v: u32) -> Vec<u32> {
-        let mut n: Vec<u32> = self.vfaces[v as usize]
-            .iter()
-            .flat_map(|&f| self.faces[f as usize])
-            .filter(|&w| w != v)
-            .collect();
-        n.sort_unstable();
-        n.dedup();
+    /// The distinct neighbours of `v`, in the order of its faces. On the stack for the usual
+    /// valences: `best` and `valid` call this for every candidate of every touched vertex,
+    /// and heap vectors here were most of the coarsening's time (`perf`).
+    fn neighbours(&self, v: u32) -> Ring {
+        let mut n = Ring::new();
+        for &f in &self.vfaces[v as usize] {
+            for w in self.faces[f as usize] {
+                if w != v && !n.contains(&w) {
+                    n.push(w);
+                }
+            }
+        }
         n
     }
 
@@ -224,29 +233,31 @@ impl State<'_> {
 
     /// Whether v → u keeps a manifold disk of the same topology and acceptable shapes.
     fn valid(&self, v: u32, u: u32) -> bool {
-        let shared: Vec<u32> = self.vfaces[v as usize]
-            .iter()
-            .copied()
-            .filter(|&f| self.faces[f as usize].contains(&u))
-            .collect();
+        let mut shared = [INVALID; 2];
+        let mut count = 0usize;
+        for &f in &self.vfaces[v as usize] {
+            if self.faces[f as usize].contains(&u) {
+                if count < 2 {
+                    shared[count] = f;
+                }
+                count += 1;
+            }
+        }
         // v is interior, so the edge (u, v) is interior: two faces.
-        if shared.len() != 2 {
+        if count != 2 {
             return false;
         }
-        let opposite: Vec<u32> = shared
-            .iter()
-            .map(|&f| {
-                self.faces[f as usize]
-                    .into_iter()
-                    .find(|&w| w != u && w != v)
-                    .unwrap_or(INVALID)
-            })
-            .collect();
+        let opposite = shared.map(|f| {
+            self.faces[f as usize]
+                .into_iter()
+                .find(|&w| w != u && w != v)
+                .unwrap_or(INVALID)
+        });
         // Link condition: the common neighbours of u and v are exactly the two opposite
         // vertices (otherwise the collapse makes a non-manifold edge or pinches the disk).
         let nv = self.neighbours(v);
         let nu = self.neighbours(u);
-        let common = nv.iter().filter(|w| nu.binary_search(w).is_ok()).count();
+        let common = nv.iter().filter(|w| nu.contains(w)).count();
         if common != 2 || opposite[0] == opposite[1] {
             return false;
         }
@@ -299,7 +310,7 @@ impl State<'_> {
         // The cheapest valid neighbour: candidates by (cost, index), validated in that order
         // until one passes — the validity test is the expensive part and the cheapest
         // candidate usually passes.
-        let mut candidates: Vec<(f64, u32)> = self
+        let mut candidates: SmallVec<[(f64, u32); RING_INLINE]> = self
             .neighbours(v)
             .into_iter()
             .map(|u| (self.cost(v, u), u))
