@@ -20,6 +20,10 @@
 //! stationary point of the paper's Eq. 1 (least total displacement), not just the end of a
 //! path of least steps.
 //!
+//! Double roots: after `LIFT_AFTER` iterations without gain, nearly flat vertices with excess
+//! angle (whose rows of A nearly vanish) get a second-order step along their normal
+//! (`lift_flat_excess`); negatively curved pieces otherwise stall there depending on round-off.
+//!
 //! Stops: θ_err ≤ tolerance (converged); the iteration limit; μ beyond `MU_MAX` (no
 //! decreasing unfolded step exists at any damping); or no 10 % gain of the merit
 //! ‖θ − 2π‖² in `STALL_WINDOW` iterations. The best unfolded state (lowest merit) is
@@ -161,6 +165,8 @@ pub fn run_from(
     // Per interior vertex: the mean length of its input edges, the scale of its steps.
     let reach = piece.interior_edge_lengths();
     let limit = opts.iteration_limit();
+    let mut last_lift = 0usize;
+    let mut lifts = 0usize;
     report.stop_reason = "iteration limit".into();
     loop {
         if let Some((at, before)) = &restoring {
@@ -267,6 +273,28 @@ pub fn run_from(
             gain_ref = f;
             restoring = Some((report.iterations, before));
             continue;
+        }
+        // A long run without gain, with nearly flat stars left at excess angle: give them
+        // their second-order step (`lift_flat_excess`), then restart the stall count.
+        if ls.is_none()
+            && restoring.is_none()
+            && err > opts.tolerance_rad
+            && report.iterations >= best_at + LIFT_AFTER
+            && report.iterations >= last_lift + LIFT_AFTER
+            && lifts < MAX_LIFTS
+        {
+            last_lift = report.iterations;
+            if let Some(lifted) = lift_flat_excess(piece, layout, &pos, &theta, err, &reach) {
+                pos = lifted;
+                layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+                (err, f) = Piece::errors(&theta);
+                report.iterations += 1;
+                report.theta_err.push(err);
+                best_at = report.iterations;
+                gain_ref = f;
+                lifts += 1;
+                continue;
+            }
         }
         if err <= opts.tolerance_rad {
             best = (f, pos.clone());
@@ -469,7 +497,85 @@ pub fn run_from(
             best = (f, pos.clone());
         }
     }
+    if lifts > 0 {
+        report.messages.push(format!(
+            "{lifts} lifts of nearly flat vertices with excess angle (second-order steps after {LIFT_AFTER} iterations without gain)"
+        ));
+    }
     RobustOutcome { positions: best.1 }
+}
+
+/// Iterations without a 10 % gain of the merit after which nearly flat vertices with excess
+/// angle are lifted, and the most lifts per piece (each restarts the stall count, so the cap
+/// bounds the extra iterations of a piece that stalls for other reasons: 8 × 20).
+const LIFT_AFTER: usize = 20;
+const MAX_LIFTS: usize = 8;
+/// Vertices whose excess is at least this fraction of the current θ_err are lifted.
+const LIFT_FRACTION: f64 = 0.5;
+/// Normal offset of the two probes that measure θ's slope and curvature, in mean input edge
+/// lengths: small against the lift (~0.01–0.1 edge), large against round-off.
+const LIFT_PROBE_EDGES: f64 = 1e-3;
+/// A lift longer than this (mean input edge lengths) is not taken: the quadratic model of θ
+/// is not trusted that far.
+const LIFT_MAX_EDGES: f64 = 0.5;
+
+/// The second-order step for the double roots that stall negatively curved pieces: an
+/// interior vertex with excess angle (θ > 2π) whose star is nearly flat sits near the maximum
+/// of θ over its centre's normal offset h, so its row of A nearly vanishes and the least-norm
+/// step asks for long moves that the ratio test refuses. Modelled as
+/// θ(h) ≈ θ + g h − c h²/2 (g, c from two probes at ±`LIFT_PROBE_EDGES`), the root of
+/// θ(h) = 2π nearer to 0 removes its excess to second order. Every vertex with excess at
+/// least `LIFT_FRACTION` of θ_err is lifted at once; `None` when none qualifies or the lifted
+/// surface folds a face. Measured on the 100×100 saddle (docs/algorithms/flattenable.md):
+/// without lifts one of four inputs within an ulp of the grid stalled at 2.1e-4, with them
+/// seven of seven converged.
+fn lift_flat_excess(
+    piece: &Piece,
+    layout: &Layout,
+    pos: &[[f64; 3]],
+    theta: &[f64],
+    err: f64,
+    reach: &[f64],
+) -> Option<Vec<[f64; 3]>> {
+    let normals = piece.interior_normals(pos);
+    let mut out = pos.to_vec();
+    let mut moved = 0;
+    let mut probe_theta = vec![0.0; layout.n()];
+    for (i, &p) in layout.interior.iter().enumerate() {
+        let r = theta[i] - TAU;
+        if r <= LIFT_FRACTION * err {
+            continue;
+        }
+        let n = normals[i];
+        let delta = LIFT_PROBE_EDGES * reach[i];
+        let mut at = |h: f64| {
+            let mut q = pos.to_vec();
+            for k in 0..3 {
+                q[p as usize][k] += h * n[k];
+            }
+            layout.theta(&q, &piece.faces, &mut probe_theta);
+            probe_theta[i]
+        };
+        let (tp, tm) = (at(delta), at(-delta));
+        let g = (tp - tm) / (2.0 * delta);
+        let c = -(tp + tm - 2.0 * theta[i]) / (delta * delta);
+        // θ must curve down (a maximum near h = 0); NaN probes are skipped too.
+        if c.is_nan() || c <= 0.0 {
+            continue;
+        }
+        // θ(h) ≈ θ + g h − c h²/2 = 2π: c h²/2 − g h − r = 0.
+        let disc = (g * g + 2.0 * c * r).sqrt();
+        let (h1, h2) = ((g + disc) / c, (g - disc) / c);
+        let h = if h1.abs() < h2.abs() { h1 } else { h2 };
+        if !h.is_finite() || h.abs() > LIFT_MAX_EDGES * reach[i] {
+            continue;
+        }
+        for k in 0..3 {
+            out[p as usize][k] += h * n[k];
+        }
+        moved += 1;
+    }
+    (moved > 0 && piece.folded_faces(&out) == 0).then_some(out)
 }
 
 /// Step fractions tried along a rejected direction before the damping is raised.
