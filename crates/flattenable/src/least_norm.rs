@@ -311,25 +311,25 @@ impl Layout {
 
     /// θ at every interior vertex only (for trial points).
     pub fn theta(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], theta: &mut [f64]) {
-        for (i, &p) in self.interior.iter().enumerate() {
-            let mut t = 0.0;
-            for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-                let h = self.corner_halfedge[k];
-                let f = faces[Topology::face(h).idx()];
-                let kk = (h % 3) as usize;
-                t += flatcut_mesh::vec3::angle(
-                    flatcut_mesh::vec3::sub(
-                        positions[f[(kk + 1) % 3] as usize],
-                        positions[p as usize],
-                    ),
-                    flatcut_mesh::vec3::sub(
-                        positions[f[(kk + 2) % 3] as usize],
-                        positions[p as usize],
-                    ),
-                );
-            }
-            theta[i] = t;
+        for i in 0..self.n() {
+            theta[i] = self.theta_at(i, positions, faces);
         }
+    }
+
+    /// θ at interior vertex `i` only (its star's corners).
+    pub fn theta_at(&self, i: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> f64 {
+        let centre = positions[self.interior[i] as usize];
+        let mut t = 0.0;
+        for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
+            let h = self.corner_halfedge[k];
+            let f = faces[Topology::face(h).idx()];
+            let kk = (h % 3) as usize;
+            t += flatcut_mesh::vec3::angle(
+                flatcut_mesh::vec3::sub(positions[f[(kk + 1) % 3] as usize], centre),
+                flatcut_mesh::vec3::sub(positions[f[(kk + 2) % 3] as usize], centre),
+            );
+        }
+        t
     }
 
     /// Lower values of A G Aᵀ (without shift) into `values` (length [`Layout::normal_nnz`]).

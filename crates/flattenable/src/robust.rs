@@ -540,7 +540,8 @@ fn lift_flat_excess(
     let normals = piece.interior_normals(pos);
     let mut out = pos.to_vec();
     let mut moved = 0;
-    let mut probe_theta = vec![0.0; layout.n()];
+    // Probes move one vertex of this copy and put it back: θ at that vertex is all they need.
+    let mut probe = pos.to_vec();
     for (i, &p) in layout.interior.iter().enumerate() {
         let r = theta[i] - TAU;
         if r <= LIFT_FRACTION * err {
@@ -548,13 +549,12 @@ fn lift_flat_excess(
         }
         let n = normals[i];
         let delta = LIFT_PROBE_EDGES * reach[i];
+        let v = pos[p as usize];
         let mut at = |h: f64| {
-            let mut q = pos.to_vec();
-            for k in 0..3 {
-                q[p as usize][k] += h * n[k];
-            }
-            layout.theta(&q, &piece.faces, &mut probe_theta);
-            probe_theta[i]
+            probe[p as usize] = [v[0] + h * n[0], v[1] + h * n[1], v[2] + h * n[2]];
+            let t = layout.theta_at(i, &probe, &piece.faces);
+            probe[p as usize] = v;
+            t
         };
         let (tp, tm) = (at(delta), at(-delta));
         let g = (tp - tm) / (2.0 * delta);

@@ -112,7 +112,6 @@ impl Tree {
     }
 }
 
-/// Squared distance from `p` to the box `[lo, hi]` (0 inside).
 /// The traversal stack of one query, on the call stack. A query used to start from
 /// `vec![0]` and grow it by reallocation: several heap calls per query, which in the remesher's
 /// parallel closest-point passes (1.4M queries on a 428k-face scan) made the threads queue on
@@ -172,6 +171,8 @@ fn push_children_nearer_last(nodes: &[Node], n: &Node, p: [f64; 3], stack: &mut 
     }
 }
 
+/// Squared distance from `p` to the box `[lo, hi]` (0 inside).
+#[inline]
 fn box_dist2(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> f64 {
     let mut d = 0.0;
     for k in 0..3 {

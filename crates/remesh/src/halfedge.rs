@@ -26,7 +26,7 @@ pub(crate) struct HalfMesh {
 /// One halfedge: the fields a traversal reads together share a cache line (with its twin's,
 /// as twins are adjacent), where separate arrays cost a cache miss per field on the large
 /// meshes decimation and remeshing walk in cost order.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Half {
     /// Vertex the halfedge points to.
     pub to: u32,
