@@ -1,7 +1,8 @@
 //! Measurements behind docs/algorithms/flattenable.md: `cargo run --release -p
 //! flatcut_flattenable --example measure -- table` (or probe with env N = grid size,
 //! W = cap|saddle, TARGET=zero, PAPER/LS/TAN to add variants; probe_weights; probe_targets
-//! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA).
+//! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA; DIAG=1 shows
+//! where the residual sits).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 
@@ -400,6 +401,78 @@ fn real() {
         if std::env::var("C2F").is_ok() {
             println!("    {:?}", p.messages);
         }
+        if std::env::var("DIAG").is_ok() {
+            diag(&mesh, &r.mesh);
+        }
+    }
+}
+
+/// Where the residual of a result sits (`DIAG=1` with `real` or `bodies`): how many interior
+/// vertices are above 1e-4, and the worst twelve with their input residual, valence, ring
+/// distance to each boundary loop and smallest corner in their star.
+fn diag(input: &flatcut_mesh::TriMesh, out: &flatcut_mesh::TriMesh) {
+    use flatcut_mesh::geometry::{angle_sums, corner_angles};
+    let topo = flatcut_mesh::Topology::build(out).unwrap();
+    let sums = angle_sums(&out.positions, &out.faces);
+    let sums0 = angle_sums(&input.positions, &input.faces);
+    let n = out.vertex_count();
+    // ring distance from each loop
+    let loops = topo.boundary_loops();
+    let mut dist = vec![vec![usize::MAX; n]; loops.len()];
+    for (l, lp) in loops.iter().enumerate() {
+        let mut q = std::collections::VecDeque::new();
+        for &v in lp {
+            dist[l][v.0 as usize] = 0;
+            q.push_back(v.0);
+        }
+        while let Some(v) = q.pop_front() {
+            for &h in topo.outgoing(flatcut_mesh::VertexId(v)) {
+                let w = topo.to_vertex(h).0 as usize;
+                if dist[l][w] == usize::MAX {
+                    dist[l][w] = dist[l][v as usize] + 1;
+                    q.push_back(w as u32);
+                }
+            }
+        }
+    }
+    let ca = corner_angles(&out.positions, &out.faces);
+    let mut minang = vec![f64::INFINITY; n];
+    for (f, c) in out.faces.iter().zip(&ca) {
+        for k in 0..3 {
+            for j in 0..3 {
+                let v = c[j];
+                let m = &mut minang[f[k] as usize];
+                *m = m.min(v);
+            }
+        }
+    }
+    let mut idx: Vec<usize> = (0..n)
+        .filter(|&v| topo.is_interior_vertex(flatcut_mesh::VertexId(v as u32)))
+        .collect();
+    idx.sort_by(|&a, &b| {
+        (sums[b] - std::f64::consts::TAU)
+            .abs()
+            .total_cmp(&(sums[a] - std::f64::consts::TAU).abs())
+    });
+    let over = idx
+        .iter()
+        .filter(|&&v| (sums[v] - std::f64::consts::TAU).abs() > 1e-4)
+        .count();
+    println!(
+        "    loops {:?}; {} interior > 1e-4",
+        loops.iter().map(|l| l.len()).collect::<Vec<_>>(),
+        over
+    );
+    for &v in idx.iter().take(12) {
+        let d: Vec<usize> = dist.iter().map(|d| d[v]).collect();
+        println!(
+            "    v{v}: θ−2π {:+.2e} (input {:+.2e}) valence {} ring dist {:?} min star angle {:.2}°",
+            sums[v] - std::f64::consts::TAU,
+            sums0[v] - std::f64::consts::TAU,
+            topo.outgoing(flatcut_mesh::VertexId(v as u32)).len(),
+            d,
+            minang[v].to_degrees()
+        );
     }
 }
 
@@ -503,6 +576,9 @@ fn bodies() {
         );
         if std::env::var("C2F").is_ok() {
             println!("    {:?}", p.messages);
+        }
+        if std::env::var("DIAG").is_ok() {
+            diag(&piece, &r.mesh);
         }
     }
 }

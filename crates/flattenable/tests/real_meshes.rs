@@ -34,11 +34,17 @@ fn check_with(name: &str, max_iterations: usize, must_converge: bool) {
     let mesh: TriMesh = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
         .unwrap()
         .mesh;
+    check_mesh(name, &mesh, max_iterations, must_converge);
+}
+
+/// What must hold on `mesh` (see the module comment); `must_converge` also asks for θ_err ≤
+/// 1e-9. Returns the processed (or best partial) result.
+fn check_mesh(name: &str, mesh: &TriMesh, max_iterations: usize, must_converge: bool) -> Processed {
     let opts = ProcessOptions {
         max_iterations: Some(max_iterations),
         ..Default::default()
     };
-    let r: Processed = match process(&mesh, &opts) {
+    let r: Processed = match process(mesh, &opts) {
         Ok(r) => {
             assert!(r.report.final_theta_err <= 1e-9);
             r
@@ -57,7 +63,7 @@ fn check_with(name: &str, max_iterations: usize, must_converge: bool) {
             let p = &partial.report.pieces[0];
             // Best by the merit ‖θ − 2π‖: its RMS is below the input's.
             let mut theta0 = flatcut_mesh::geometry::angle_sums(&mesh.positions, &mesh.faces);
-            let topo = Topology::build(&mesh).unwrap();
+            let topo = Topology::build(mesh).unwrap();
             let (mut s, mut n) = (0.0, 0usize);
             for (v, t) in theta0.iter_mut().enumerate() {
                 if topo.is_interior_vertex(VertexId(v as u32)) {
@@ -72,7 +78,7 @@ fn check_with(name: &str, max_iterations: usize, must_converge: bool) {
     };
     assert_eq!(r.report.folded_faces, 0, "{name}");
     assert!(r.mesh.positions.iter().flatten().all(|c| c.is_finite()));
-    let topo = Topology::build(&mesh).unwrap();
+    let topo = Topology::build(mesh).unwrap();
     for v in 0..mesh.vertex_count() {
         if topo.is_boundary_vertex(VertexId(v as u32)) {
             assert_eq!(
@@ -80,6 +86,122 @@ fn check_with(name: &str, max_iterations: usize, must_converge: bool) {
                 "{name}: boundary moved"
             );
         }
+    }
+    r
+}
+
+/// A piece of a body: the faces whose centroid passes `keep`, their largest connected part.
+fn cut(mesh: &TriMesh, keep: impl Fn([f64; 3]) -> bool) -> TriMesh {
+    let faces: Vec<u32> = (0..mesh.face_count() as u32)
+        .filter(|&f| {
+            let c = mesh.faces[f as usize].iter().fold([0.0; 3], |mut c, &v| {
+                for (ck, pk) in c.iter_mut().zip(mesh.positions[v as usize]) {
+                    *ck += pk / 3.0;
+                }
+                c
+            });
+            keep(c)
+        })
+        .collect();
+    let (sub, _) = flatcut_mesh::submesh(mesh, &faces);
+    let topo = Topology::build(&sub).unwrap();
+    let comp = topo.face_components();
+    let mut count = vec![0usize; topo.component_count()];
+    for &c in comp {
+        count[c as usize] += 1;
+    }
+    let big = (0..count.len()).max_by_key(|&c| count[c]).unwrap();
+    let keep_faces: Vec<u32> = (0..sub.face_count() as u32)
+        .filter(|&f| comp[f as usize] as usize == big)
+        .collect();
+    flatcut_mesh::submesh(&sub, &keep_faces).0
+}
+
+/// Pieces of the MakeHuman body (model units = dm; y up, +z front; the same boxes as
+/// `cargo run --release -p flatcut_flattenable --example measure -- bodies`): upper back,
+/// left shoulder cap (a ball: two boundary loops), left front thigh, chest.
+fn body_pieces(body: &TriMesh) -> Vec<(&'static str, TriMesh)> {
+    vec![
+        (
+            "upper back",
+            cut(body, |c| {
+                c[2] < 0.0 && (3.6..5.4).contains(&c[1]) && c[0].abs() < 1.3
+            }),
+        ),
+        (
+            "left shoulder",
+            cut(body, |c| {
+                let d = [c[0] - 1.68, c[1] - 5.25, c[2] - 0.15];
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < 0.9
+            }),
+        ),
+        (
+            "left front thigh",
+            cut(body, |c| {
+                c[2] > 0.1 && (-3.0..-0.9).contains(&c[1]) && c[0] > 0.3
+            }),
+        ),
+        (
+            "chest",
+            cut(body, |c| {
+                c[2] > 0.0 && (3.6..5.2).contains(&c[1]) && c[0].abs() < 1.4
+            }),
+        ),
+    ]
+}
+
+/// Every piece of the base body either converges or stops cleanly; the back, the shoulder
+/// and the thigh (|total defect| ≤ 1.9 rad, measured 6–19 iterations) must converge, the
+/// chest (+2.06 rad over both breasts, a dart case: measured best 3.7e-3) need not.
+#[test]
+fn mh_body_pieces() {
+    let Some(path) = data("mh_body.obj") else {
+        eprintln!("FLATCUT_DATA unset: skipping mh_body pieces");
+        return;
+    };
+    let body = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
+        .unwrap()
+        .mesh;
+    for (name, piece) in body_pieces(&body) {
+        let r = check_mesh(name, &piece, 500, name != "chest");
+        let p = &r.report.pieces[0];
+        if p.converged {
+            // No corner newly under the floor, and a pattern, not a crumpled sheet.
+            assert!(p.min_angle_deg >= 0.5, "{name}: {}", p.min_angle_deg);
+            assert!(
+                p.area_change_percent.abs() < 10.0,
+                "{name}: {}",
+                p.area_change_percent
+            );
+        }
+    }
+}
+
+/// The same pieces at scan-like resolution (the 2× subdivided body, 2–6k faces, solved
+/// coarse-to-fine): the back and the thigh must converge (measured 14 and 12 iterations);
+/// the shoulder (−2.15 rad, saddle-like, two loops: measured best 7.8e-3) need not, and the
+/// chest box gives a non-manifold vertex, refused with a named error.
+#[test]
+#[ignore = "2–6k-face pieces of a 428k-face body: run in release"]
+fn mh_body_subdiv2_pieces() {
+    let Some(path) = data("mh_body_subdiv2.obj") else {
+        eprintln!("FLATCUT_DATA unset: skipping mh_body_subdiv2 pieces");
+        return;
+    };
+    let body = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
+        .unwrap()
+        .mesh;
+    for (name, piece) in body_pieces(&body) {
+        if name == "chest" {
+            let err = process(&piece, &ProcessOptions::default()).unwrap_err();
+            assert!(
+                matches!(err, FlattenableError::NonManifoldVertex { .. }),
+                "{err}"
+            );
+            continue;
+        }
+        let r = check_mesh(name, &piece, 500, name != "left shoulder");
+        assert!(r.report.pieces[0].faces > 2000, "{name}");
     }
 }
 
