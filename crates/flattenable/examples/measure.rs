@@ -577,6 +577,10 @@ fn bodies() {
         if std::env::var("C2F").is_ok() {
             println!("    {:?}", p.messages);
         }
+        if std::env::var("TRACE").is_ok() {
+            let t: Vec<String> = p.theta_err.iter().map(|e| format!("{e:.1e}")).collect();
+            println!("    θ_err: {}", t.join(" "));
+        }
         if std::env::var("DIAG").is_ok() {
             diag(&piece, &r.mesh);
         }

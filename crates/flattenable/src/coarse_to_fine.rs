@@ -15,7 +15,7 @@ use flatcut_mesh::vec3::{add, sub};
 use flatcut_mesh::{Topology, TriMesh};
 
 use crate::coarsen::{Coarsened, coarsen};
-use crate::options::{ProcessOptions, Prolongation};
+use crate::options::{CoarseToFine, ProcessOptions, Prolongation};
 use crate::piece::Piece;
 use crate::report::PieceReport;
 use crate::{FlattenableError, robust};
@@ -37,10 +37,26 @@ pub fn applies(faces: usize, opts: &ProcessOptions) -> bool {
     c.levels > 0 && faces >= c.min_faces && faces <= c.max_faces && c.ratio > 1.0
 }
 
+/// The rescue hierarchy (see [`CoarseToFine::rescue`]): levels down to pieces of about
+/// this many faces (the size at which the measured body pieces converge directly in 10–20
+/// iterations)…
+const RESCUE_MIN_FACES: usize = 300;
+/// … at most this many of them (a 15k-face piece: 3.8k, 940, 235 faces)…
+const RESCUE_LEVELS: usize = 3;
+/// … and positions prolongation: the fine vertices start on the flattenable coarse surface.
+const RESCUE_PROLONGATION: Prolongation = Prolongation::Positions;
+
 /// Robust mode on `piece` (local mesh `local`, weights per local vertex `w_local`) through
 /// a coarse hierarchy. Fills `report` with the finest level's run; the prolongated start
 /// counts as one iteration (`theta_err` holds the input's error, then the start's), and the
 /// coarse levels are summarised in `messages`.
+///
+/// When the fine level does not converge (or a coarse level does not), two more attempts
+/// follow, each only while nothing has converged: the rescue hierarchy (deeper, positions
+/// prolongation; `CoarseToFine::rescue`), then the direct solve from the input. The best
+/// result by ‖θ − 2π‖² is kept, so the outcome is never worse than the direct solve's (the
+/// time is); the kept run's report carries the others' messages, rejected steps and
+/// factorisations.
 pub fn run(
     piece: &Piece,
     local: &TriMesh,
@@ -49,6 +65,136 @@ pub fn run(
     report: &mut PieceReport,
 ) -> Result<Vec<[f64; 3]>, FlattenableError> {
     let c2f = &opts.coarse_to_fine;
+    let mut notes: Vec<String> = Vec::new();
+    // The best unconverged attempt so far: its merit, positions and report.
+    let mut best: Option<(f64, Vec<[f64; 3]>, PieceReport)> = None;
+    let (mut rejected, mut factorizations) = (0usize, 0usize);
+    let merit = |p: &[[f64; 3]]| {
+        let mut t = vec![0.0; piece.layout.n()];
+        piece.layout.theta(p, &piece.faces, &mut t);
+        Piece::errors(&t).1
+    };
+    let rescue = CoarseToFine {
+        min_faces: RESCUE_MIN_FACES,
+        levels: RESCUE_LEVELS,
+        prolongation: RESCUE_PROLONGATION,
+        ..c2f.clone()
+    };
+    let mut hierarchies = vec![c2f.clone()];
+    if c2f.rescue
+        && (rescue.min_faces, rescue.levels, rescue.prolongation)
+            != (c2f.min_faces, c2f.levels, c2f.prolongation)
+    {
+        hierarchies.push(rescue);
+    }
+    for (attempt, h) in hierarchies.iter().enumerate() {
+        let mut rep = fresh(report);
+        let what = if attempt == 0 {
+            "coarse-to-fine"
+        } else {
+            "rescue coarse-to-fine"
+        };
+        match pass(piece, local, w_local, opts, h, &mut rep)? {
+            Pass::NoLevels if attempt == 0 => return Ok(robust::run(piece, opts, report).positions),
+            Pass::NoLevels => {}
+            Pass::Abandoned(summary) => {
+                notes.push(format!(
+                    "{what} abandoned ({summary}): a coarse level did not reach {:.0e} rad",
+                    opts.tolerance_rad.max(COARSE_TOLERANCE_RAD)
+                ));
+                rejected += rep.rejected_steps;
+                factorizations += rep.factorizations;
+            }
+            Pass::Fine(out) => {
+                if rep.converged {
+                    notes.append(&mut rep.messages);
+                    rep.messages = notes;
+                    rep.rejected_steps += rejected;
+                    rep.factorizations += factorizations;
+                    *report = rep;
+                    return Ok(out);
+                }
+                notes.push(format!(
+                    "{what} did not converge (best θ_err {:.1e} in {} iterations)",
+                    rep.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e)),
+                    rep.iterations
+                ));
+                let m = merit(&out);
+                if best.as_ref().is_none_or(|(b, _, _)| m < *b) {
+                    if let Some((_, _, old)) = best.take() {
+                        rejected += old.rejected_steps;
+                        factorizations += old.factorizations;
+                    }
+                    best = Some((m, out, rep));
+                } else {
+                    rejected += rep.rejected_steps;
+                    factorizations += rep.factorizations;
+                }
+            }
+        }
+    }
+    // Solve from the input as without coarse-to-fine; keep the better.
+    notes.push("solved again from the input".into());
+    let mut direct = fresh(report);
+    let again = robust::run(piece, opts, &mut direct).positions;
+    let (mut kept, out) = match best {
+        Some((m, out, rep)) if !direct.converged && m < merit(&again) => {
+            rejected += direct.rejected_steps;
+            factorizations += direct.factorizations;
+            (rep, out)
+        }
+        other => {
+            if let Some((_, _, rep)) = other {
+                rejected += rep.rejected_steps;
+                factorizations += rep.factorizations;
+            }
+            (direct, again)
+        }
+    };
+    notes.append(&mut kept.messages);
+    kept.messages = notes;
+    kept.rejected_steps += rejected;
+    kept.factorizations += factorizations;
+    *report = kept;
+    Ok(out)
+}
+
+/// A report for a new attempt: the piece's fields kept, the run's fields reset.
+fn fresh(report: &PieceReport) -> PieceReport {
+    PieceReport {
+        iterations: 0,
+        converged: false,
+        theta_err: Vec::new(),
+        rejected_steps: 0,
+        backtracked_steps: 0,
+        pull_backs: 0,
+        factorizations: 0,
+        stop_reason: String::new(),
+        messages: Vec::new(),
+        ..report.clone()
+    }
+}
+
+/// How one pass through a hierarchy ended.
+enum Pass {
+    /// No coarser level could be made.
+    NoLevels,
+    /// A coarse level did not reach [`COARSE_TOLERANCE_RAD`] (its levels' summary).
+    Abandoned(String),
+    /// The fine level ran from the prolongated start; the report says whether it converged.
+    Fine(Vec<[f64; 3]>),
+}
+
+/// One pass: the hierarchy `c2f` built, solved coarsest first, the fine level run from its
+/// prolongation into `report`.
+fn pass(
+    piece: &Piece,
+    local: &TriMesh,
+    w_local: &[f64],
+    opts: &ProcessOptions,
+    c2f: &CoarseToFine,
+    report: &mut PieceReport,
+) -> Result<Pass, FlattenableError> {
     // levels[k] maps level k (k = 0 the piece) to level k + 1.
     let mut levels: Vec<Coarsened> = Vec::new();
     let mut weights: Vec<Vec<f64>> = vec![w_local.to_vec()];
@@ -69,7 +215,7 @@ pub fn run(
         levels.push(c);
     }
     if levels.is_empty() {
-        return Ok(robust::run(piece, opts, report).positions);
+        return Ok(Pass::NoLevels);
     }
     let coarse_opts = ProcessOptions {
         tolerance_rad: opts.tolerance_rad.max(COARSE_TOLERANCE_RAD),
@@ -105,6 +251,8 @@ pub fn run(
             };
             robust::run_from(&lp, &start, &coarse_opts, &mut rep).positions
         };
+        report.rejected_steps += rep.rejected_steps;
+        report.factorizations += rep.factorizations;
         let mut theta = vec![0.0; lp.layout.n()];
         lp.layout.theta(&pos, &lp.faces, &mut theta);
         let err = Piece::errors(&theta).0;
@@ -118,13 +266,8 @@ pub fn run(
             // A coarse level that does not become flattenable gives a start that is not
             // near the fine solution (measured: the 100×100 saddle's coarse level stalls at
             // 1e-3 and the fine level from its prolongation stalls at 2e-4, while the fine
-            // level from its input converges): solve the piece directly.
-            report.messages.push(format!(
-                "coarse-to-fine abandoned ({}): level {k} did not reach {:.0e} rad; solved from the input",
-                summary.join("; "),
-                coarse_opts.tolerance_rad
-            ));
-            return Ok(robust::run(piece, opts, report).positions);
+            // level from its input converges).
+            return Ok(Pass::Abandoned(summary.join("; ")));
         }
         solution = Some(pos);
     }
@@ -133,51 +276,23 @@ pub fn run(
     let mut theta0 = vec![0.0; piece.layout.n()];
     piece.layout.theta(&piece.pos0, &piece.faces, &mut theta0);
     report.theta_err.push(Piece::errors(&theta0).0);
-    let mut out = robust::run_from(piece, &start, opts, report).positions;
+    let coarse_rejected = report.rejected_steps;
+    report.rejected_steps = 0;
+    let out = robust::run_from(piece, &start, opts, report).positions;
     report.iterations += 1;
-    report.messages.push(format!(
-        "coarse-to-fine ({:?} prolongation): {}; fine level ({} faces): {} iterations",
-        c2f.prolongation,
-        summary.join("; "),
-        local.face_count(),
-        report.iterations - 1
-    ));
-    if !report.converged {
-        // The fine level from the prolongated start did not converge (measured once: the
-        // 100×100 cap with displacement prolongation stalled at 2.6e-7): solve from the
-        // input as without coarse-to-fine and keep the better of the two, so the outcome is
-        // never worse than the direct solve's (the time is).
-        let mut direct = PieceReport {
-            messages: std::mem::take(&mut report.messages),
-            ..report.clone()
-        };
-        direct.theta_err.clear();
-        direct.iterations = 0;
-        direct.rejected_steps = 0;
-        direct.pull_backs = 0;
-        direct.converged = false;
-        let again = robust::run(piece, opts, &mut direct).positions;
-        let merit = |p: &[[f64; 3]]| {
-            let mut t = vec![0.0; piece.layout.n()];
-            piece.layout.theta(p, &piece.faces, &mut t);
-            Piece::errors(&t).1
-        };
-        direct.messages.push(format!(
-            "coarse-to-fine start did not converge (best θ_err {:.1e} in {} iterations); solved again from the input",
-            report.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e)),
-            report.iterations
-        ));
-        if direct.converged || merit(&again) <= merit(&out) {
-            // `iterations` and `theta_err` stay the direct run's (one history); the first
-            // run's count is in the message above.
-            direct.rejected_steps += report.rejected_steps;
-            *report = direct;
-            out = again;
-        } else {
-            report.messages = direct.messages;
-        }
-    }
-    Ok(out)
+    report.messages.insert(
+        0,
+        format!(
+            "coarse-to-fine ({:?} prolongation): {}; fine level ({} faces): {} iterations (+{} rejected)",
+            c2f.prolongation,
+            summary.join("; "),
+            local.face_count(),
+            report.iterations - 1,
+            report.rejected_steps,
+        ),
+    );
+    report.rejected_steps += coarse_rejected;
+    Ok(Pass::Fine(out))
 }
 
 /// The start of a finer level from the solution `coarse` of the level below: prolongated,

@@ -90,6 +90,13 @@ pub struct CoarseToFine {
     pub levels: usize,
     /// How a coarse solution is carried to the finer level. Default `Displacement`.
     pub prolongation: Prolongation,
+    /// When the fine level does not converge, try once more through a deeper hierarchy
+    /// (levels down to ~300 faces, positions prolongation) before solving from the input.
+    /// Default true: measured to make the saddle-like shoulder of mh_body_subdiv2 (5.5k
+    /// faces, −2.15 rad) converge in 30 fine iterations where the default hierarchy and the
+    /// direct solve stall at 4–8e-3 (docs/algorithms/flattenable.md). Pieces that converge
+    /// on the first try are unaffected.
+    pub rescue: bool,
 }
 
 impl Default for CoarseToFine {
@@ -100,6 +107,7 @@ impl Default for CoarseToFine {
             ratio: 4.0,
             levels: 3,
             prolongation: Prolongation::Displacement,
+            rescue: true,
         }
     }
 }
