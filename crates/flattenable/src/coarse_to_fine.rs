@@ -41,8 +41,9 @@ pub fn applies(faces: usize, opts: &ProcessOptions) -> bool {
 /// this many faces (the size at which the measured body pieces converge directly in 10–20
 /// iterations)…
 const RESCUE_MIN_FACES: usize = 300;
-/// … at most this many of them (a 15k-face piece: 3.8k, 940, 235 faces)…
-const RESCUE_LEVELS: usize = 3;
+/// … at most this many of them (enough for a 1M-face piece at ratio 4; the default
+/// `max_faces` of 15k gives 3.8k, 940, 235)…
+const RESCUE_LEVELS: usize = 8;
 /// … and positions prolongation: the fine vertices start on the flattenable coarse surface.
 const RESCUE_PROLONGATION: Prolongation = Prolongation::Positions;
 
@@ -94,7 +95,7 @@ pub fn run(
         } else {
             "rescue coarse-to-fine"
         };
-        match pass(piece, local, w_local, opts, h, &mut rep)? {
+        match pass(piece, local, w_local, opts, h, what, &mut rep)? {
             Pass::NoLevels if attempt == 0 => return Ok(robust::run(piece, opts, report).positions),
             Pass::NoLevels => {}
             Pass::Abandoned(summary) => {
@@ -186,13 +187,14 @@ enum Pass {
 }
 
 /// One pass: the hierarchy `c2f` built, solved coarsest first, the fine level run from its
-/// prolongation into `report`.
+/// prolongation into `report` (its message starts with `label`).
 fn pass(
     piece: &Piece,
     local: &TriMesh,
     w_local: &[f64],
     opts: &ProcessOptions,
     c2f: &CoarseToFine,
+    label: &str,
     report: &mut PieceReport,
 ) -> Result<Pass, FlattenableError> {
     // levels[k] maps level k (k = 0 the piece) to level k + 1.
@@ -283,7 +285,7 @@ fn pass(
     report.messages.insert(
         0,
         format!(
-            "coarse-to-fine ({:?} prolongation): {}; fine level ({} faces): {} iterations (+{} rejected)",
+            "{label} ({:?} prolongation): {}; fine level ({} faces): {} iterations (+{} rejected)",
             c2f.prolongation,
             summary.join("; "),
             local.face_count(),
