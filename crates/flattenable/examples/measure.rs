@@ -514,10 +514,25 @@ fn bodies() {
         Ok("zero") => Target::Zero,
         _ => Target::Detail,
     };
-    let path = std::path::Path::new(&dir).join(format!("{body}.obj"));
-    let mesh = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
+    // BODY may also be a path (e.g. a remeshed scan); SCALE maps its units to the boxes'
+    // decimetres (100 for mh_body_scanlike, which is in millimetres).
+    let path = if body.contains('/') {
+        std::path::PathBuf::from(&body)
+    } else {
+        std::path::Path::new(&dir).join(format!("{body}.obj"))
+    };
+    let scale: f64 = std::env::var("SCALE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0);
+    let mut mesh = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
         .unwrap()
         .mesh;
+    for p in &mut mesh.positions {
+        for c in p.iter_mut() {
+            *c /= scale;
+        }
+    }
     type Keep = Box<dyn Fn([f64; 3]) -> bool>;
     let pieces: Vec<(&str, Keep)> = vec![
         (

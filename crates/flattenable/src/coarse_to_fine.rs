@@ -31,33 +31,41 @@ const MIN_REDUCTION: f64 = 0.2;
 /// against the input; after them the level starts from its input.
 const START_HALVINGS: usize = 8;
 
-/// Whether `faces`-face pieces are solved coarse-to-fine under `opts`.
+/// Whether `faces`-face pieces go through [`run`] under `opts`: coarse-to-fine first
+/// (`min_faces..=max_faces`), or, with the rescue on, smaller pieces big enough for a rescue
+/// hierarchy (solved directly first, the hierarchies only if that fails).
 pub fn applies(faces: usize, opts: &ProcessOptions) -> bool {
     let c = &opts.coarse_to_fine;
-    c.levels > 0 && faces >= c.min_faces && faces <= c.max_faces && c.ratio > 1.0
+    c.levels > 0
+        && faces <= c.max_faces
+        && c.ratio > 1.0
+        && (faces >= c.min_faces || (c.rescue && faces >= RESCUE_MIN_FACES * 2))
 }
 
-/// The rescue hierarchy (see [`CoarseToFine::rescue`]): levels down to pieces of about
+/// The rescue hierarchies (see [`CoarseToFine::rescue`]): levels down to pieces of about
 /// this many faces (the size at which the measured body pieces converge directly in 10–20
 /// iterations)…
 const RESCUE_MIN_FACES: usize = 300;
 /// … at most this many of them (enough for a 1M-face piece at ratio 4; the default
 /// `max_faces` of 15k gives 3.8k, 940, 235)…
 const RESCUE_LEVELS: usize = 8;
-/// … and positions prolongation: the fine vertices start on the flattenable coarse surface.
-const RESCUE_PROLONGATION: Prolongation = Prolongation::Positions;
+/// … with displacement prolongation first (the noisy scan's leg pieces converge that way and
+/// not with positions), then positions (the clean body's saddle-like shoulder converges that
+/// way and not with displacements; docs/algorithms/flattenable.md).
+const RESCUE_PROLONGATIONS: [Prolongation; 2] =
+    [Prolongation::Displacement, Prolongation::Positions];
 
 /// Robust mode on `piece` (local mesh `local`, weights per local vertex `w_local`) through
-/// a coarse hierarchy. Fills `report` with the finest level's run; the prolongated start
-/// counts as one iteration (`theta_err` holds the input's error, then the start's), and the
-/// coarse levels are summarised in `messages`.
+/// coarse hierarchies. Fills `report` with the kept run; with a hierarchy, the prolongated
+/// start counts as one iteration (`theta_err` holds the input's error, then the start's), and
+/// the coarse levels are summarised in `messages`.
 ///
-/// When the fine level does not converge (or a coarse level does not), two more attempts
-/// follow, each only while nothing has converged: the rescue hierarchy (deeper, positions
-/// prolongation; `CoarseToFine::rescue`), then the direct solve from the input. The best
-/// result by ‖θ − 2π‖² is kept, so the outcome is never worse than the direct solve's (the
-/// time is); the kept run's report carries the others' messages, rejected steps and
-/// factorisations.
+/// The attempts, each only while nothing has converged: for a piece of at least `min_faces`
+/// the configured hierarchy, else the direct solve; then, with `rescue`, the two rescue
+/// hierarchies (deeper; displacement, then positions prolongation); last the direct solve if
+/// it has not run. The best result by ‖θ − 2π‖² is kept, so the outcome is never worse than the
+/// direct solve's (the time is); the kept run's report carries the others' messages, rejected
+/// steps and factorisations.
 pub fn run(
     piece: &Piece,
     local: &TriMesh,
@@ -66,6 +74,28 @@ pub fn run(
     report: &mut PieceReport,
 ) -> Result<Vec<[f64; 3]>, FlattenableError> {
     let c2f = &opts.coarse_to_fine;
+    let direct_first = local.face_count() < c2f.min_faces;
+    let mut attempts: Vec<Option<CoarseToFine>> = Vec::new();
+    attempts.push((!direct_first).then(|| c2f.clone()));
+    if c2f.rescue {
+        for prolongation in RESCUE_PROLONGATIONS {
+            let h = CoarseToFine {
+                min_faces: RESCUE_MIN_FACES,
+                levels: RESCUE_LEVELS,
+                prolongation,
+                ..c2f.clone()
+            };
+            let same = |o: &CoarseToFine| {
+                (o.min_faces, o.levels, o.prolongation) == (h.min_faces, h.levels, h.prolongation)
+            };
+            if !attempts.iter().flatten().any(same) {
+                attempts.push(Some(h));
+            }
+        }
+    }
+    if !direct_first {
+        attempts.push(None);
+    }
     let mut notes: Vec<String> = Vec::new();
     // The best unconverged attempt so far: its merit, positions and report.
     let mut best: Option<(f64, Vec<[f64; 3]>, PieceReport)> = None;
@@ -75,82 +105,73 @@ pub fn run(
         piece.layout.theta(p, &piece.faces, &mut t);
         Piece::errors(&t).1
     };
-    let rescue = CoarseToFine {
-        min_faces: RESCUE_MIN_FACES,
-        levels: RESCUE_LEVELS,
-        prolongation: RESCUE_PROLONGATION,
-        ..c2f.clone()
-    };
-    let mut hierarchies = vec![c2f.clone()];
-    if c2f.rescue
-        && (rescue.min_faces, rescue.levels, rescue.prolongation)
-            != (c2f.min_faces, c2f.levels, c2f.prolongation)
-    {
-        hierarchies.push(rescue);
-    }
-    for (attempt, h) in hierarchies.iter().enumerate() {
+    for (k, attempt) in attempts.iter().enumerate() {
         let mut rep = fresh(report);
-        let what = if attempt == 0 {
+        let what = if k == 0 {
             "coarse-to-fine"
         } else {
             "rescue coarse-to-fine"
         };
-        match pass(piece, local, w_local, opts, h, what, &mut rep)? {
-            Pass::NoLevels if attempt == 0 => return Ok(robust::run(piece, opts, report).positions),
-            Pass::NoLevels => {}
-            Pass::Abandoned(summary) => {
-                notes.push(format!(
-                    "{what} abandoned ({summary}): a coarse level did not reach {:.0e} rad",
-                    opts.tolerance_rad.max(COARSE_TOLERANCE_RAD)
-                ));
-                rejected += rep.rejected_steps;
-                factorizations += rep.factorizations;
-            }
-            Pass::Fine(out) => {
-                if rep.converged {
-                    notes.append(&mut rep.messages);
-                    rep.messages = notes;
-                    rep.rejected_steps += rejected;
-                    rep.factorizations += factorizations;
-                    *report = rep;
-                    return Ok(out);
+        let out = match attempt {
+            None => {
+                if k > 0 {
+                    notes.push("solved again from the input".into());
                 }
-                notes.push(format!(
-                    "{what} did not converge (best θ_err {:.1e} in {} iterations)",
-                    rep.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e)),
-                    rep.iterations
-                ));
-                let m = merit(&out);
-                if best.as_ref().is_none_or(|(b, _, _)| m < *b) {
-                    if let Some((_, _, old)) = best.take() {
-                        rejected += old.rejected_steps;
-                        factorizations += old.factorizations;
-                    }
-                    best = Some((m, out, rep));
-                } else {
+                robust::run(piece, opts, &mut rep).positions
+            }
+            Some(h) => match pass(piece, local, w_local, opts, h, what, &mut rep)? {
+                Pass::NoLevels if k == 0 => {
+                    return Ok(robust::run(piece, opts, report).positions);
+                }
+                Pass::NoLevels => continue,
+                Pass::Abandoned(summary) => {
+                    notes.push(format!(
+                        "{what} abandoned ({summary}): a coarse level did not reach {:.0e} rad",
+                        opts.tolerance_rad.max(COARSE_TOLERANCE_RAD)
+                    ));
                     rejected += rep.rejected_steps;
                     factorizations += rep.factorizations;
+                    continue;
                 }
+                Pass::Fine(out) => out,
+            },
+        };
+        if rep.converged {
+            notes.append(&mut rep.messages);
+            rep.messages = notes;
+            rep.rejected_steps += rejected;
+            rep.factorizations += factorizations;
+            *report = rep;
+            return Ok(out);
+        }
+        notes.push(match attempt {
+            None => format!(
+                "the direct solve did not converge (best θ_err {:.1e} in {} iterations)",
+                rep.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e)),
+                rep.iterations
+            ),
+            Some(_) => format!(
+                "{what} did not converge (best θ_err {:.1e} in {} iterations)",
+                rep.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e)),
+                rep.iterations
+            ),
+        });
+        let m = merit(&out);
+        if best.as_ref().is_none_or(|(b, _, _)| m < *b) {
+            if let Some((_, _, old)) = best.take() {
+                rejected += old.rejected_steps;
+                factorizations += old.factorizations;
             }
+            best = Some((m, out, rep));
+        } else {
+            rejected += rep.rejected_steps;
+            factorizations += rep.factorizations;
         }
     }
-    // Solve from the input as without coarse-to-fine; keep the better.
-    notes.push("solved again from the input".into());
-    let mut direct = fresh(report);
-    let again = robust::run(piece, opts, &mut direct).positions;
-    let (mut kept, out) = match best {
-        Some((m, out, rep)) if !direct.converged && m < merit(&again) => {
-            rejected += direct.rejected_steps;
-            factorizations += direct.factorizations;
-            (rep, out)
-        }
-        other => {
-            if let Some((_, _, rep)) = other {
-                rejected += rep.rejected_steps;
-                factorizations += rep.factorizations;
-            }
-            (direct, again)
-        }
+    let Some((_, out, mut kept)) = best else {
+        // Every hierarchy was abandoned and the direct solve already ran first: impossible
+        // (the direct solve always leaves a best state), but answer with a plain run.
+        return Ok(robust::run(piece, opts, report).positions);
     };
     notes.append(&mut kept.messages);
     kept.messages = notes;
