@@ -476,34 +476,6 @@ fn diag(input: &flatcut_mesh::TriMesh, out: &flatcut_mesh::TriMesh) {
     }
 }
 
-/// A piece cut from a body: the faces whose centroid passes `keep`, largest connected part.
-fn cut(mesh: &flatcut_mesh::TriMesh, keep: impl Fn([f64; 3]) -> bool) -> flatcut_mesh::TriMesh {
-    let faces: Vec<u32> = (0..mesh.face_count() as u32)
-        .filter(|&f| {
-            let t = mesh.faces[f as usize];
-            let c = (0..3).fold([0.0; 3], |mut c, k| {
-                for d in 0..3 {
-                    c[d] += mesh.positions[t[k] as usize][d] / 3.0;
-                }
-                c
-            });
-            keep(c)
-        })
-        .collect();
-    let (sub, _) = flatcut_mesh::submesh(mesh, &faces);
-    let topo = flatcut_mesh::Topology::build(&sub).unwrap();
-    let comp = topo.face_components();
-    let mut count = vec![0usize; topo.component_count()];
-    for &c in comp {
-        count[c as usize] += 1;
-    }
-    let big = (0..count.len()).max_by_key(|&c| count[c]).unwrap();
-    let keep_faces: Vec<u32> = (0..sub.face_count() as u32)
-        .filter(|&f| comp[f as usize] as usize == big)
-        .collect();
-    flatcut_mesh::submesh(&sub, &keep_faces).0
-}
-
 /// Pieces cut from the MakeHuman body (decimetres, y up, +z front; MANIFEST landmarks):
 /// upper back, chest, left shoulder cap, left front thigh; on mh_body and on its 2×
 /// subdivision (BODY=mh_body_subdiv2).
@@ -533,30 +505,7 @@ fn bodies() {
             *c /= scale;
         }
     }
-    type Keep = Box<dyn Fn([f64; 3]) -> bool>;
-    let pieces: Vec<(&str, Keep)> = vec![
-        (
-            "upper back",
-            Box::new(|c: [f64; 3]| c[2] < 0.0 && (3.6..5.4).contains(&c[1]) && c[0].abs() < 1.3),
-        ),
-        (
-            "chest",
-            Box::new(|c: [f64; 3]| c[2] > 0.0 && (3.6..5.2).contains(&c[1]) && c[0].abs() < 1.4),
-        ),
-        (
-            "left shoulder",
-            Box::new(|c: [f64; 3]| {
-                let d = [c[0] - 1.68, c[1] - 5.25, c[2] - 0.15];
-                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < 0.9
-            }),
-        ),
-        (
-            "left front thigh",
-            Box::new(|c: [f64; 3]| c[2] > 0.1 && (-3.0..-0.9).contains(&c[1]) && c[0] > 0.3),
-        ),
-    ];
-    for (name, keep) in pieces {
-        let piece = cut(&mesh, keep);
+    for (name, piece) in common::body_pieces(&mesh) {
         let topo = flatcut_mesh::Topology::build(&piece).unwrap();
         let loops = topo.boundary_loops().len();
         let opts = ProcessOptions {

@@ -11,6 +11,9 @@ use std::path::PathBuf;
 use flatcut_flattenable::{FlattenableError, ProcessOptions, Processed, process};
 use flatcut_mesh::{Topology, TriMesh, VertexId};
 
+mod common;
+use common::body_pieces;
+
 fn data(name: &str) -> Option<PathBuf> {
     let dir = std::env::var_os("FLATCUT_DATA")?;
     let path = PathBuf::from(dir).join(name);
@@ -90,64 +93,17 @@ fn check_mesh(name: &str, mesh: &TriMesh, max_iterations: usize, must_converge: 
     r
 }
 
-/// A piece of a body: the faces whose centroid passes `keep`, their largest connected part.
-fn cut(mesh: &TriMesh, keep: impl Fn([f64; 3]) -> bool) -> TriMesh {
-    let faces: Vec<u32> = (0..mesh.face_count() as u32)
-        .filter(|&f| {
-            let c = mesh.faces[f as usize].iter().fold([0.0; 3], |mut c, &v| {
-                for (ck, pk) in c.iter_mut().zip(mesh.positions[v as usize]) {
-                    *ck += pk / 3.0;
-                }
-                c
-            });
-            keep(c)
-        })
-        .collect();
-    let (sub, _) = flatcut_mesh::submesh(mesh, &faces);
-    let topo = Topology::build(&sub).unwrap();
-    let comp = topo.face_components();
-    let mut count = vec![0usize; topo.component_count()];
-    for &c in comp {
-        count[c as usize] += 1;
-    }
-    let big = (0..count.len()).max_by_key(|&c| count[c]).unwrap();
-    let keep_faces: Vec<u32> = (0..sub.face_count() as u32)
-        .filter(|&f| comp[f as usize] as usize == big)
-        .collect();
-    flatcut_mesh::submesh(&sub, &keep_faces).0
-}
-
-/// Pieces of the MakeHuman body (model units = dm; y up, +z front; the same boxes as
-/// `cargo run --release -p flatcut_flattenable --example measure -- bodies`): upper back,
-/// left shoulder cap (a ball: two boundary loops), left front thigh, chest.
-fn body_pieces(body: &TriMesh) -> Vec<(&'static str, TriMesh)> {
-    vec![
-        (
-            "upper back",
-            cut(body, |c| {
-                c[2] < 0.0 && (3.6..5.4).contains(&c[1]) && c[0].abs() < 1.3
-            }),
-        ),
-        (
-            "left shoulder",
-            cut(body, |c| {
-                let d = [c[0] - 1.68, c[1] - 5.25, c[2] - 0.15];
-                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < 0.9
-            }),
-        ),
-        (
-            "left front thigh",
-            cut(body, |c| {
-                c[2] > 0.1 && (-3.0..-0.9).contains(&c[1]) && c[0] > 0.3
-            }),
-        ),
-        (
-            "chest",
-            cut(body, |c| {
-                c[2] > 0.0 && (3.6..5.2).contains(&c[1]) && c[0].abs() < 1.4
-            }),
-        ),
-    ]
+/// A body of FLATCUT_DATA in its model units (None, said on stderr, when unset).
+fn body(name: &str) -> Option<TriMesh> {
+    let Some(path) = data(name) else {
+        eprintln!("FLATCUT_DATA unset: skipping the pieces of {name}");
+        return None;
+    };
+    Some(
+        flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
+            .unwrap()
+            .mesh,
+    )
 }
 
 /// Every piece of the base body either converges or stops cleanly; the back, the shoulder
@@ -155,13 +111,9 @@ fn body_pieces(body: &TriMesh) -> Vec<(&'static str, TriMesh)> {
 /// chest (+2.06 rad over both breasts, a dart case: measured best 3.7e-3) need not.
 #[test]
 fn mh_body_pieces() {
-    let Some(path) = data("mh_body.obj") else {
-        eprintln!("FLATCUT_DATA unset: skipping mh_body pieces");
+    let Some(body) = body("mh_body.obj") else {
         return;
     };
-    let body = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
-        .unwrap()
-        .mesh;
     for (name, piece) in body_pieces(&body) {
         let r = check_mesh(name, &piece, 500, name != "chest");
         let p = &r.report.pieces[0];
@@ -185,13 +137,9 @@ fn mh_body_pieces() {
 #[test]
 #[ignore = "2–6k-face pieces of a 428k-face body: run in release"]
 fn mh_body_subdiv2_pieces() {
-    let Some(path) = data("mh_body_subdiv2.obj") else {
-        eprintln!("FLATCUT_DATA unset: skipping mh_body_subdiv2 pieces");
+    let Some(body) = body("mh_body_subdiv2.obj") else {
         return;
     };
-    let body = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
-        .unwrap()
-        .mesh;
     for (name, piece) in body_pieces(&body) {
         if name == "chest" {
             let err = process(&piece, &ProcessOptions::default()).unwrap_err();

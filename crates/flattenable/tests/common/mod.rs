@@ -65,3 +65,62 @@ pub fn boundary_changed(a: &TriMesh, b: &TriMesh) -> usize {
         .filter(|&v| a.positions[v] != b.positions[v])
         .count()
 }
+
+/// A piece of a body: the faces whose centroid passes `keep`, their largest connected part.
+pub fn cut(mesh: &TriMesh, keep: impl Fn([f64; 3]) -> bool) -> TriMesh {
+    let faces: Vec<u32> = (0..mesh.face_count() as u32)
+        .filter(|&f| {
+            let c = mesh.faces[f as usize].iter().fold([0.0; 3], |mut c, &v| {
+                for (ck, pk) in c.iter_mut().zip(mesh.positions[v as usize]) {
+                    *ck += pk / 3.0;
+                }
+                c
+            });
+            keep(c)
+        })
+        .collect();
+    let (sub, _) = flatcut_mesh::submesh(mesh, &faces);
+    let topo = flatcut_mesh::Topology::build(&sub).unwrap();
+    let comp = topo.face_components();
+    let mut count = vec![0usize; topo.component_count()];
+    for &c in comp {
+        count[c as usize] += 1;
+    }
+    let big = (0..count.len()).max_by_key(|&c| count[c]).unwrap();
+    let keep_faces: Vec<u32> = (0..sub.face_count() as u32)
+        .filter(|&f| comp[f as usize] as usize == big)
+        .collect();
+    flatcut_mesh::submesh(&sub, &keep_faces).0
+}
+
+/// Pieces of the MakeHuman body (model units = dm; y up, +z front; MANIFEST landmarks):
+/// upper back, chest, left shoulder cap (a ball: two boundary loops), left front thigh.
+pub fn body_pieces(body: &TriMesh) -> Vec<(&'static str, TriMesh)> {
+    vec![
+        (
+            "upper back",
+            cut(body, |c| {
+                c[2] < 0.0 && (3.6..5.4).contains(&c[1]) && c[0].abs() < 1.3
+            }),
+        ),
+        (
+            "chest",
+            cut(body, |c| {
+                c[2] > 0.0 && (3.6..5.2).contains(&c[1]) && c[0].abs() < 1.4
+            }),
+        ),
+        (
+            "left shoulder",
+            cut(body, |c| {
+                let d = [c[0] - 1.68, c[1] - 5.25, c[2] - 0.15];
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < 0.9
+            }),
+        ),
+        (
+            "left front thigh",
+            cut(body, |c| {
+                c[2] > 0.1 && (-3.0..-0.9).contains(&c[1]) && c[0] > 0.3
+            }),
+        ),
+    ]
+}
