@@ -177,3 +177,48 @@ fn options_read_from_toml_like_json_with_documented_defaults() {
     assert_eq!(o.tolerance_rad, 1e-9);
     assert!(serde_json::from_str::<ProcessOptions>(r#"{"bogus":1}"#).is_err());
 }
+
+/// A piece that stops unconverged names its cause by its input: a rough one (median
+/// |2π − θ| above 0.1 rad: scan noise) is told to smooth the scan, and the Gauss–Bonnet
+/// reading of its total defect is left out; a smooth one keeps that reading. Both are cut off
+/// by the iteration limit so that they stop.
+#[test]
+fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
+    use flatcut_flattenable::FlattenableError;
+    // Height noise of ±0.15 on a 1/11 spacing (deterministic hash): median |2π − θ| ~0.4 rad.
+    let noise = |x: f64, y: f64| {
+        let h = ((x * 12.9898 + y * 78.233).sin() * 43_758.545).fract();
+        0.15 * (2.0 * h.abs() - 1.0)
+    };
+    let rough = common::grid(12, 0.5, |x, y| 0.3 * (x * x - y * y) + noise(x, y));
+    let smooth = common::saddle(12);
+    let opts = ProcessOptions {
+        max_iterations: Some(1),
+        coarse_to_fine: flatcut_flattenable::CoarseToFine {
+            levels: 0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let messages = |mesh| match process(mesh, &opts) {
+        Err(FlattenableError::NotConverged { partial, .. }) => {
+            partial.report.pieces[0].messages.clone()
+        }
+        other => panic!("expected NotConverged, got {:?}", other.map(|_| ())),
+    };
+    let r = messages(&rough);
+    assert!(
+        r.iter().any(|m| m.contains("the surface is rough")),
+        "{r:?}"
+    );
+    assert!(
+        !r.iter().any(|m| m.contains("total angle defect of")),
+        "{r:?}"
+    );
+    let s = messages(&smooth);
+    assert!(!s.iter().any(|m| m.contains("rough")), "{s:?}");
+    assert!(
+        s.iter().any(|m| m.contains("negative total angle defect")),
+        "{s:?}"
+    );
+}
