@@ -45,6 +45,11 @@ pub struct RemeshArgs {
     /// Split–collapse–flip–relax rounds.
     #[arg(long, default_value_t = 10)]
     pub iterations: usize,
+    /// Taubin smoothing steps on the result (boundaries and creases fixed): removes scan
+    /// noise that flattenable processing would otherwise have to iron; vertices then leave
+    /// the input by about the noise's amplitude. 0: off.
+    #[arg(long, default_value_t = 0)]
+    pub smooth_iterations: usize,
     /// Units of the input: mm, cm, dm, m or in (default: m for .gltf/.glb, as glTF fixes, else mm). The output is in mm.
     #[arg(long, value_parser = crate::util::parse_units)]
     pub units: Option<Units>,
@@ -95,6 +100,7 @@ pub fn run(args: &RemeshArgs) -> anyhow::Result<()> {
             feature_angle_deg: args.feature_angle_deg,
             fill_holes_perimeter_mm: args.fill_holes_mm,
             max_deviation_mm: args.max_deviation_mm,
+            smooth_iterations: args.smooth_iterations,
             ..RemeshOptions::default()
         };
         let src = work.as_ref().map_or(input, |(m, _)| m);

@@ -13,6 +13,7 @@ mod halfedge;
 mod holes;
 mod quality;
 mod remesh;
+pub mod taubin;
 
 pub use decimate::{DecimateOptions, Decimated, decimate};
 pub use error::RemeshError;

@@ -17,6 +17,7 @@ use crate::RemeshError;
 use crate::halfedge::{HalfMesh, check_manifold, twin};
 use crate::holes::{fan_fill, find_holes};
 use crate::quality::{QualityReport, quality_with_bvh};
+use crate::taubin::taubin_smooth;
 
 /// Split edges longer than this multiple of the target (Botsch & Kobbelt: 4/3 makes the
 /// split and collapse thresholds symmetric around the target after one split).
@@ -103,6 +104,14 @@ pub struct RemeshOptions {
     /// not checked. Deviations that persist at that floor (scan noise finer than the
     /// floor) are counted in the report's `samples_over_deviation`.
     pub max_deviation_mm: f64,
+    /// Taubin λ|μ smoothing steps applied to the result (default 0: off, every vertex on the
+    /// input). Boundary, corner, crease and feature-line vertices stay fixed. It removes scan
+    /// noise at the working resolution without shrinking the shape (a pass band of about 19
+    /// edges: [`crate::taubin`]), for pieces that flattenable processing would otherwise
+    /// have to iron (docs/algorithms/remesh.md); the vertices then leave the noisy input by
+    /// about the noise's amplitude (the report's distances say how far) and their provenance
+    /// is their closest input point.
+    pub smooth_iterations: usize,
 }
 
 impl Default for RemeshOptions {
@@ -117,6 +126,7 @@ impl Default for RemeshOptions {
             feature_lines: Vec::new(),
             fill_holes_perimeter_mm: 0.0,
             max_deviation_mm: 0.5,
+            smooth_iterations: 0,
         }
     }
 }
@@ -393,17 +403,36 @@ fn remesh_manifold(
     if any_filled {
         w.fair_filled(n_input_faces, target);
     }
-    let (out, old_id) = w.m.to_trimesh();
+    let (mut out, old_id) = w.m.to_trimesh();
     let input_bvh = if any_filled {
         Some(Bvh::build(mesh))
     } else {
         None
     };
     let ibvh = input_bvh.as_ref().unwrap_or(&bvh);
-    let provenance: Vec<Provenance> = old_id
+    let mut provenance: Vec<Provenance> = old_id
         .par_iter()
         .map(|&v| w.provenance(v, n_input_faces, mesh, ibvh))
         .collect();
+    if opts.smooth_iterations > 0 {
+        let fixed: Vec<bool> = old_id
+            .iter()
+            .map(|&v| w.is_feature_v(v) || w.m.is_boundary_v(v))
+            .collect();
+        taubin_smooth(&mut out, &fixed, opts.smooth_iterations);
+        // Smoothed vertices left the input: their provenance is their closest input point.
+        provenance
+            .par_iter_mut()
+            .zip(&out.positions)
+            .zip(&fixed)
+            .filter(|((p, _), fixed)| !**fixed && !p.filled)
+            .for_each(|((p, &x), _)| {
+                if let Some(c) = ibvh.closest_point(x) {
+                    p.face = c.face.0;
+                    p.barycentric = c.barycentric;
+                }
+            });
+    }
     let filled: Vec<bool> = provenance.iter().map(|p| p.filled).collect();
     let bound = (opts.max_deviation_mm > 0.0).then_some(opts.max_deviation_mm);
     let mut report = quality_with_bvh(&out, mesh, ibvh, Some(target), bound, &filled);
