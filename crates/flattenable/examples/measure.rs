@@ -569,8 +569,8 @@ fn cpu_ns() -> u64 {
 
 /// `speed`: per grid size (env `SIZES`, comma-separated n of n×n caps; `REPS` runs each) the
 /// kernel timings and both targets' runs with their messages; `TRACE=1` adds θ_err per
-/// iteration, `C2F_LEVELS=0` solves without coarse-to-fine, `PROLONG=positions` switches the
-/// prolongation.
+/// iteration, `C2F_LEVELS=0` solves without coarse-to-fine, `C2F_MAX` raises its largest
+/// piece, `PROLONG=positions` switches the prolongation, `ONLY_TARGET=zero` skips the default.
 fn speed() {
     use flatcut_flattenable::least_norm::{Layout, Metric};
     let reps: usize = std::env::var("REPS")
@@ -634,6 +634,12 @@ fn speed() {
                 .and_then(|s| s.parse().ok())
             {
                 opts.coarse_to_fine.levels = l;
+            }
+            if let Some(m) = std::env::var("C2F_MAX").ok().and_then(|s| s.parse().ok()) {
+                opts.coarse_to_fine.max_faces = m;
+            }
+            if std::env::var("ONLY_TARGET").as_deref() == Ok("zero") && target == Target::Detail {
+                continue;
             }
             if std::env::var("PROLONG").as_deref() == Ok("positions") {
                 opts.coarse_to_fine.prolongation = flatcut_flattenable::Prolongation::Positions;

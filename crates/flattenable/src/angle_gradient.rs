@@ -18,19 +18,25 @@ use flatcut_mesh::{Topology, VertexId};
 /// the angle is not differentiable there and callers reject such geometry beforehand.
 #[inline]
 pub fn corner_angle_gradient(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> (f64, [[f64; 3]; 3]) {
+    (angle(sub(a, p), sub(b, p)), corner_gradient(p, a, b))
+}
+
+/// The gradients of [`corner_angle_gradient`] alone, without the angle (whose atan2 is the
+/// expensive part): for points where θ is already known.
+#[inline]
+pub fn corner_gradient(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> [[f64; 3]; 3] {
     let u = sub(a, p);
     let w = sub(b, p);
     let c = cross(u, w);
     let cn2 = norm2(c);
-    let alpha = angle(u, w);
     if cn2 <= 0.0 || !cn2.is_finite() {
-        return (alpha, [[0.0; 3]; 3]);
+        return [[0.0; 3]; 3];
     }
     let n = scale(c, 1.0 / cn2.sqrt());
     let ga = scale(cross(n, u), -1.0 / dot(u, u));
     let gb = scale(cross(w, n), -1.0 / dot(w, w));
     let gp = [-(ga[0] + gb[0]), -(ga[1] + gb[1]), -(ga[2] + gb[2])];
-    (alpha, [gp, ga, gb])
+    [gp, ga, gb]
 }
 
 /// θ(v) and its gradient: `(θ, [(vertex, ∂θ/∂vertex)])`, the first entry being `v` itself

@@ -116,6 +116,16 @@ pub fn run_from(
     let mut trial_theta = vec![0.0; n];
     let mut grad = vec![[0.0; 3]; layout.entries()];
     let mut normal = vec![0.0; layout.normal_nnz()];
+    // One set of factorisation buffers for every step of the run.
+    let mut factor = match layout.new_factor() {
+        Ok(f) => f,
+        Err(e) => {
+            report.stop_reason = format!("factorisation buffers: {e:?}");
+            return RobustOutcome {
+                positions: start.to_vec(),
+            };
+        }
+    };
     layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
     let (mut err, mut f) = Piece::errors(&theta);
     report.theta_err.push(err);
@@ -215,7 +225,10 @@ pub fn run_from(
                 .collect();
             let mut taken = false;
             report.factorizations += 1;
-            if let Ok(factor) = layout.factor(&normal, mu.max(PULL_BACK_MU) * m, None) {
+            if layout
+                .refactor(&mut factor, &normal, mu.max(PULL_BACK_MU) * m, None)
+                .is_ok()
+            {
                 let mut y = layout.apply(&grad, &z);
                 layout.solve(&factor, &mut y, 1);
                 let gy = layout.step_from_multipliers(&grad, &metric, &y);
@@ -333,15 +346,19 @@ pub fn run_from(
                 assembled = true;
             }
             report.factorizations += 1;
-            let Ok(factor) = layout.factor(&normal, mu * mean_diag, None) else {
+            if layout
+                .refactor(&mut factor, &normal, mu * mean_diag, None)
+                .is_err()
+            {
                 mu = (mu * 10.0).max(MU_MIN);
                 report.rejected_steps += 1;
                 continue;
-            };
+            }
+            let factor = &factor;
             // d = G Aᵀ (A G Aᵀ + μ m I)⁻¹ rhs with this factor.
             let solve = |rhs: &[f64]| -> Option<Vec<[f64; 3]>> {
                 let mut x = rhs.to_vec();
-                layout.solve(&factor, &mut x, 1);
+                layout.solve(factor, &mut x, 1);
                 x.iter()
                     .all(|v| v.is_finite())
                     .then(|| layout.step_from_multipliers(&grad, &metric, &x))
@@ -427,7 +444,7 @@ pub fn run_from(
             }
             if ls.is_some() {
                 if f_trial.is_finite() && f_trial < 0.9 * f {
-                    accepted = Some((trial, f_trial));
+                    accepted = Some((trial, None));
                     break;
                 }
                 ls = None;
@@ -454,7 +471,7 @@ pub fn run_from(
                 } else if rho < 0.25 {
                     mu *= 2.0;
                 }
-                accepted = Some((trial, f_trial));
+                accepted = Some((trial, None));
                 break;
             }
             report.rejected_steps += 1;
@@ -465,17 +482,17 @@ pub fn run_from(
             // ρ < 1/4): ×4 as after a plain rejection stalled the 100k-face cap at 1.4e-6,
             // ×2 converged it in 111 iterations instead of 283.
             if ls.is_none()
-                && let Some((short, f_short)) =
+                && let Some((short, short_theta)) =
                     backtrack(piece, layout, &pos, &interior, &d, &b, &ad, f, n)
             {
                 report.backtracked_steps += 1;
                 mu *= 2.0;
-                accepted = Some((short, f_short));
+                accepted = Some((short, Some(short_theta)));
                 break;
             }
             mu *= 4.0;
         }
-        let Some((trial, _)) = accepted else {
+        let Some((trial, trial_theta_owned)) = accepted else {
             report.stop_reason =
                 "no decreasing unfolded step at any damping (μ above its limit)".into();
             break;
@@ -485,7 +502,13 @@ pub fn run_from(
         for k in &mut stiff {
             *k = (*k / STIFFEN.sqrt()).max(1.0);
         }
-        layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+        // θ at the accepted point was computed for its test (the same sums, bit for bit):
+        // only A is new.
+        match trial_theta_owned {
+            Some(t) => theta = t,
+            None => std::mem::swap(&mut theta, &mut trial_theta),
+        }
+        layout.gradient(&pos, &piece.faces, &mut grad);
         (err, f) = Piece::errors(&theta);
         report.iterations += 1;
         report.theta_err.push(err);
@@ -594,7 +617,7 @@ const STEP_CAP_EDGES: f64 = 2.0;
 
 /// The first of α = 1/2, 1/4, … (`BACKTRACKS` tries) for which `pos + α d` has no folded
 /// face and a real decrease of the merit against the linear model's prediction (ρ above
-/// `RHO_ACCEPT`, as for full steps); the new positions and their merit.
+/// `RHO_ACCEPT`, as for full steps); the new positions and their θ.
 #[allow(clippy::too_many_arguments)]
 fn backtrack(
     piece: &Piece,
@@ -606,7 +629,7 @@ fn backtrack(
     ad: &[f64],
     f: f64,
     n: usize,
-) -> Option<(Vec<[f64; 3]>, f64)> {
+) -> Option<(Vec<[f64; 3]>, Vec<f64>)> {
     let mut alpha = 0.5;
     let mut theta = vec![0.0; n];
     for _ in 0..BACKTRACKS {
@@ -632,7 +655,7 @@ fn backtrack(
                 .sum();
             let pred = f - res;
             if f_cand.is_finite() && f_cand < f && pred > 0.0 && (f - f_cand) / pred > RHO_ACCEPT {
-                return Some((cand, f_cand));
+                return Some((cand, theta));
             }
         }
         alpha *= 0.5;

@@ -184,3 +184,59 @@ fn weighted_vertices_take_a_smaller_share_of_the_step() {
     }
     assert!(w < p, "{w} vs {p}");
 }
+
+#[test]
+fn gradient_alone_equals_the_evaluated_one_bit_for_bit() {
+    // Accepted steps take θ from their trial and only A from `Layout::gradient`: it must be
+    // the same A that `evaluate` gives, to the bit, or the paths would change.
+    let mut mesh = common::saddle(9);
+    for (i, p) in mesh.positions.iter_mut().enumerate() {
+        p[2] += 0.01 * ((i * 7919 % 13) as f64 / 13.0 - 0.5);
+    }
+    let (layout, _, grad) = setup(&mesh);
+    let mut alone = vec![[1.0; 3]; layout.entries()];
+    layout.gradient(&mesh.positions, &mesh.faces, &mut alone);
+    assert!(grad.iter().flatten().any(|g| *g != 0.0));
+    for (a, b) in alone.iter().flatten().zip(grad.iter().flatten()) {
+        assert_eq!(a.to_bits(), b.to_bits());
+    }
+}
+
+#[test]
+fn refactor_reuses_buffers_and_recovers_after_a_failed_factorisation() {
+    let (layout, theta, grad) = setup(&common::sphere_cap(8));
+    let scale = vec![1.0; layout.n()];
+    let metric = Metric {
+        scale: &scale,
+        normals: None,
+        tangential: 1.0,
+    };
+    let mut normal = vec![0.0; layout.normal_nnz()];
+    layout.normal_matrix(&grad, &metric, &mut normal);
+    let m = layout.mean_diagonal(&normal);
+    let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
+    let solve = |f: &flatcut_flattenable::least_norm::Factor| {
+        let mut x = b.clone();
+        layout.solve(f, &mut x, 1);
+        x
+    };
+    let fresh = solve(&layout.factor(&normal, 1e-3 * m, None).unwrap());
+    let mut reused = layout.new_factor().unwrap();
+    // A first factorisation at another shift, then a failing one (indefinite: −10 m I),
+    // then the one to compare: the buffers carry nothing over.
+    layout
+        .refactor(&mut reused, &normal, 1.0 * m, None)
+        .unwrap();
+    assert!(
+        layout
+            .refactor(&mut reused, &normal, -10.0 * m, None)
+            .is_err()
+    );
+    layout
+        .refactor(&mut reused, &normal, 1e-3 * m, None)
+        .unwrap();
+    let again = solve(&reused);
+    for (a, b) in again.iter().zip(&fresh) {
+        assert_eq!(a.to_bits(), b.to_bits());
+    }
+}
