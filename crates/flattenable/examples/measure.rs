@@ -570,7 +570,7 @@ fn cpu_ns() -> u64 {
 /// `speed`: per grid size (env `SIZES`, comma-separated n of n×n caps; `REPS` runs each) the
 /// kernel timings and both targets' runs with their messages; `TRACE=1` adds θ_err per
 /// iteration, `C2F_LEVELS=0` solves without coarse-to-fine, `C2F_MAX` raises its largest
-/// piece, `PROLONG=positions` switches the prolongation, `ONLY_TARGET=zero` skips the default.
+/// piece, `PROLONG=positions` switches the prolongation, `ONLY_TARGET=zero|detail` runs one target.
 fn speed() {
     use flatcut_flattenable::least_norm::{Layout, Metric};
     let reps: usize = std::env::var("REPS")
@@ -638,8 +638,10 @@ fn speed() {
             if let Some(m) = std::env::var("C2F_MAX").ok().and_then(|s| s.parse().ok()) {
                 opts.coarse_to_fine.max_faces = m;
             }
-            if std::env::var("ONLY_TARGET").as_deref() == Ok("zero") && target == Target::Detail {
-                continue;
+            match std::env::var("ONLY_TARGET").as_deref() {
+                Ok("zero") if target == Target::Detail => continue,
+                Ok("detail") if target == Target::Zero => continue,
+                _ => {}
             }
             if std::env::var("PROLONG").as_deref() == Ok("positions") {
                 opts.coarse_to_fine.prolongation = flatcut_flattenable::Prolongation::Positions;
