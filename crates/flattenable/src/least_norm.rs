@@ -66,7 +66,16 @@ pub struct Metric<'a> {
     pub tangential: f64,
 }
 
-impl Metric<'_> {
+impl<'a> Metric<'a> {
+    /// The paper's metric W² = diag(`scale`) (t = 1, no normals).
+    pub fn isotropic(scale: &'a [f64]) -> Self {
+        Self {
+            scale,
+            normals: None,
+            tangential: 1.0,
+        }
+    }
+
     #[inline]
     fn bilinear(&self, c: usize, gi: [f64; 3], gj: [f64; 3]) -> f64 {
         let s = self.scale[c];
@@ -290,28 +299,42 @@ impl Layout {
         grad: &mut [[f64; 3]],
     ) {
         grad.iter_mut().for_each(|g| *g = [0.0; 3]);
-        for (i, &p) in self.interior.iter().enumerate() {
+        for (i, &centre) in self.interior.iter().enumerate() {
+            let p = positions[centre as usize];
             let mut t = 0.0;
             for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-                let h = self.corner_halfedge[k];
-                let f = faces[Topology::face(h).idx()];
-                let kk = (h % 3) as usize;
-                let (alpha, g) = corner_angle_gradient(
-                    positions[p as usize],
-                    positions[f[(kk + 1) % 3] as usize],
-                    positions[f[(kk + 2) % 3] as usize],
-                );
+                let [a, b] = self.corner_ends(k, positions, faces);
+                let (alpha, g) = corner_angle_gradient(p, a, b);
                 t += alpha;
-                for (slot, gk) in self.corner_entries[k].iter().zip(g) {
-                    if *slot != INVALID {
-                        let e = &mut grad[*slot as usize];
-                        e[0] += gk[0];
-                        e[1] += gk[1];
-                        e[2] += gk[2];
-                    }
-                }
+                self.scatter(k, g, grad);
             }
             theta[i] = t;
+        }
+    }
+
+    /// The two other points (next, previous) of corner `k`, whose centre is its interior
+    /// vertex.
+    #[inline]
+    fn corner_ends(&self, k: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> [[f64; 3]; 2] {
+        let h = self.corner_halfedge[k];
+        let f = faces[Topology::face(h).idx()];
+        let kk = (h % 3) as usize;
+        [
+            positions[f[(kk + 1) % 3] as usize],
+            positions[f[(kk + 2) % 3] as usize],
+        ]
+    }
+
+    /// Adds corner `k`'s gradients (centre, next, previous) to their entries of A.
+    #[inline]
+    fn scatter(&self, k: usize, g: [[f64; 3]; 3], grad: &mut [[f64; 3]]) {
+        for (slot, gk) in self.corner_entries[k].iter().zip(g) {
+            if *slot != INVALID {
+                let e = &mut grad[*slot as usize];
+                e[0] += gk[0];
+                e[1] += gk[1];
+                e[2] += gk[2];
+            }
         }
     }
 
@@ -319,24 +342,11 @@ impl Layout {
     /// the same values as [`Layout::evaluate`] without its atan2 per corner.
     pub fn gradient(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], grad: &mut [[f64; 3]]) {
         grad.iter_mut().for_each(|g| *g = [0.0; 3]);
-        for (i, &p) in self.interior.iter().enumerate() {
+        for (i, &centre) in self.interior.iter().enumerate() {
+            let p = positions[centre as usize];
             for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-                let h = self.corner_halfedge[k];
-                let f = faces[Topology::face(h).idx()];
-                let kk = (h % 3) as usize;
-                let g = corner_gradient(
-                    positions[p as usize],
-                    positions[f[(kk + 1) % 3] as usize],
-                    positions[f[(kk + 2) % 3] as usize],
-                );
-                for (slot, gk) in self.corner_entries[k].iter().zip(g) {
-                    if *slot != INVALID {
-                        let e = &mut grad[*slot as usize];
-                        e[0] += gk[0];
-                        e[1] += gk[1];
-                        e[2] += gk[2];
-                    }
-                }
+                let [a, b] = self.corner_ends(k, positions, faces);
+                self.scatter(k, corner_gradient(p, a, b), grad);
             }
         }
     }
@@ -350,15 +360,13 @@ impl Layout {
 
     /// θ at interior vertex `i` only (its star's corners).
     pub fn theta_at(&self, i: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> f64 {
-        let centre = positions[self.interior[i] as usize];
+        let p = positions[self.interior[i] as usize];
         let mut t = 0.0;
         for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-            let h = self.corner_halfedge[k];
-            let f = faces[Topology::face(h).idx()];
-            let kk = (h % 3) as usize;
+            let [a, b] = self.corner_ends(k, positions, faces);
             t += flatcut_mesh::vec3::angle(
-                flatcut_mesh::vec3::sub(positions[f[(kk + 1) % 3] as usize], centre),
-                flatcut_mesh::vec3::sub(positions[f[(kk + 2) % 3] as usize], centre),
+                flatcut_mesh::vec3::sub(a, p),
+                flatcut_mesh::vec3::sub(b, p),
             );
         }
         t

@@ -205,14 +205,10 @@ fn gradient_alone_equals_the_evaluated_one_bit_for_bit() {
 #[test]
 fn refactor_reuses_buffers_and_recovers_after_a_failed_factorisation() {
     let (layout, theta, grad) = setup(&common::sphere_cap(8));
-    let scale = vec![1.0; layout.n()];
-    let metric = Metric {
-        scale: &scale,
-        normals: None,
-        tangential: 1.0,
-    };
+    // A Aᵀ through the unit metric; b = 2π − θ.
+    let unit = vec![1.0; layout.n()];
     let mut normal = vec![0.0; layout.normal_nnz()];
-    layout.normal_matrix(&grad, &metric, &mut normal);
+    layout.normal_matrix(&grad, &Metric::isotropic(&unit), &mut normal);
     let m = layout.mean_diagonal(&normal);
     let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
     let solve = |f: &flatcut_flattenable::least_norm::Factor| {
