@@ -116,7 +116,11 @@ pub fn run_from(
     let mut trial_theta = vec![0.0; n];
     let mut grad = vec![[0.0; 3]; layout.entries()];
     let mut normal = vec![0.0; layout.normal_nnz()];
-    // One set of factorisation buffers for every step of the run.
+    layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+    let (mut err, mut f) = Piece::errors(&theta);
+    report.theta_err.push(err);
+    // One set of factorisation buffers for every step of the run (only an allocation
+    // failure stops here: the start is returned, unconverged, with the reason).
     let mut factor = match layout.new_factor() {
         Ok(f) => f,
         Err(e) => {
@@ -126,9 +130,6 @@ pub fn run_from(
             };
         }
     };
-    layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
-    let (mut err, mut f) = Piece::errors(&theta);
-    report.theta_err.push(err);
     // Best state by the merit f (what the steps decrease); the max can rise meanwhile.
     let mut best = (f, pos.clone());
     let mut best_at = 0usize;
@@ -492,6 +493,8 @@ pub fn run_from(
             }
             mu *= 4.0;
         }
+        // `accepted`: the new positions and their θ when it is not in `trial_theta`
+        // (a backtracked step brings its own).
         let Some((trial, trial_theta_owned)) = accepted else {
             report.stop_reason =
                 "no decreasing unfolded step at any damping (μ above its limit)".into();
