@@ -404,35 +404,26 @@ fn remesh_manifold(
         w.fair_filled(n_input_faces, target);
     }
     let (mut out, old_id) = w.m.to_trimesh();
-    let input_bvh = if any_filled {
-        Some(Bvh::build(mesh))
-    } else {
-        None
-    };
-    let ibvh = input_bvh.as_ref().unwrap_or(&bvh);
-    let mut provenance: Vec<Provenance> = old_id
-        .par_iter()
-        .map(|&v| w.provenance(v, n_input_faces, mesh, ibvh))
-        .collect();
     if opts.smooth_iterations > 0 {
         let fixed: Vec<bool> = old_id
             .iter()
             .map(|&v| w.is_feature_v(v) || w.m.is_boundary_v(v))
             .collect();
         taubin_smooth(&mut out, &fixed, opts.smooth_iterations);
-        // Smoothed vertices left the input: their provenance is their closest input point.
-        provenance
-            .par_iter_mut()
-            .zip(&out.positions)
-            .zip(&fixed)
-            .filter(|((p, _), fixed)| !**fixed && !p.filled)
-            .for_each(|((p, &x), _)| {
-                if let Some(c) = ibvh.closest_point(x) {
-                    p.face = c.face.0;
-                    p.barycentric = c.barycentric;
-                }
-            });
     }
+    let input_bvh = if any_filled {
+        Some(Bvh::build(mesh))
+    } else {
+        None
+    };
+    let ibvh = input_bvh.as_ref().unwrap_or(&bvh);
+    // Located at the output position: smoothed vertices left the input, and their provenance
+    // is their closest input point (one query per vertex).
+    let provenance: Vec<Provenance> = old_id
+        .par_iter()
+        .zip(&out.positions)
+        .map(|(&v, &at)| w.provenance(v, at, n_input_faces, mesh, ibvh))
+        .collect();
     let filled: Vec<bool> = provenance.iter().map(|p| p.filled).collect();
     let bound = (opts.max_deviation_mm > 0.0).then_some(opts.max_deviation_mm);
     let mut report = quality_with_bvh(&out, mesh, ibvh, Some(target), bound, &filled);
@@ -1632,14 +1623,25 @@ impl<'a> Work<'a> {
         }
     }
 
-    fn provenance(&self, v: u32, n_input_faces: u32, input: &TriMesh, ibvh: &Bvh) -> Provenance {
+    /// Where output vertex `v`, now at `at` (its working position unless smoothing moved
+    /// it), lies on the input: chain vertices on their polyline, corners at their input
+    /// vertex, others at the closest input point — of the working position for vertices of
+    /// filled holes (which are not on the input either way).
+    fn provenance(
+        &self,
+        v: u32,
+        at: [f64; 3],
+        n_input_faces: u32,
+        input: &TriMesh,
+        ibvh: &Bvh,
+    ) -> Provenance {
         let k = self.v_chain[v as usize];
         if k != INVALID && !self.v_corner[v as usize] {
             return self.chains[k as usize].provenance(self.v_s[v as usize]);
         }
-        let p = self.m.pos[v as usize];
         let f = self.v_face[v as usize];
         let filled = f != INVALID && f >= n_input_faces && !self.v_corner[v as usize];
+        let p = if filled { self.m.pos[v as usize] } else { at };
         if self.v_corner[v as usize] && (v as usize) < input.positions.len() {
             // Corners are input vertices: a face of theirs with a one-hot weight.
             let (face, slot) = self.input_face[v as usize];
