@@ -4,6 +4,7 @@
 
 #![allow(clippy::unwrap_used)]
 
+use std::path::Path;
 use std::process::Command;
 
 use flatcut_mesh::shapes::icosphere;
@@ -11,6 +12,24 @@ use flatcut_mesh::vec3::norm;
 
 fn flatcut() -> Command {
     Command::new(env!("CARGO_BIN_EXE_flatcut"))
+}
+
+/// `flatcut remesh ARGS --json INPUT OUTPUT`, which must succeed; its JSON report.
+fn remesh_json(args: &[&str], input: &Path, output: &Path) -> serde_json::Value {
+    let out = flatcut()
+        .arg("remesh")
+        .args(args)
+        .arg("--json")
+        .arg(input)
+        .arg(output)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 /// An icosphere of radius 100 mm with the faces around two vertices removed: one small
@@ -49,25 +68,11 @@ fn remesh_fills_the_small_hole_and_reports_quality() {
     .unwrap();
     let before = std::fs::read(&input).unwrap();
     let output = dir.path().join("out.obj");
-    let out = flatcut()
-        .args([
-            "remesh",
-            "--edge-mm",
-            "10",
-            "--fill-holes-mm",
-            "100",
-            "--json",
-        ])
-        .arg(&input)
-        .arg(&output)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let r = remesh_json(
+        &["--edge-mm", "10", "--fill-holes-mm", "100"],
+        &input,
+        &output,
     );
-    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let q = &r["quality"];
     assert_eq!(q["holes"].as_array().unwrap().len(), 2);
     assert_eq!(q["holes_filled"], 1);
@@ -185,25 +190,20 @@ fn smooth_iterations_flattens_a_noisy_sheet() {
     flatcut_io::write_mesh(&input, &sheet, &flatcut_io::WriteOptions::default()).unwrap();
     let run = |smooth: &str| {
         let output = dir.path().join(format!("out{smooth}.obj"));
-        let out = flatcut()
-            .args(["remesh", "--edge-mm", "10", "--feature-angle-deg", "180"])
-            .args([
+        let r = remesh_json(
+            &[
+                "--edge-mm",
+                "10",
+                "--feature-angle-deg",
+                "180",
                 "--max-deviation-mm",
                 "0",
                 "--smooth-iterations",
                 smooth,
-                "--json",
-            ])
-            .arg(&input)
-            .arg(&output)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+            ],
+            &input,
+            &output,
         );
-        let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         let mesh = flatcut_io::read_mesh(&output, flatcut_io::Units::Mm)
             .unwrap()
             .mesh;
