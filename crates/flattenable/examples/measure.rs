@@ -2,7 +2,8 @@
 //! flatcut_flattenable --example measure -- table` (or probe with env N = grid size,
 //! W = cap|saddle, TARGET=zero, PAPER/LS/TAN to add variants; probe_weights; probe_targets
 //! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA; DIAG=1 shows
-//! where the residual sits).
+//! where the residual sits; speed [SIZES=…, REPS, TRACE=1]; saddles [SEEDS=…, DIAG=1], the
+//! round-off robustness check).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 
@@ -697,6 +698,101 @@ fn speed() {
 /// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets|real|bodies]`
 /// prints the measurement tables of docs/algorithms/flattenable.md (a tool, not a test: it asserts
 /// nothing; the tests assert the numbers that must hold).
+/// The 100×100 saddle with its coordinates multiplied by 1 + k·2.2e-16, k ∈ {−1, 0, 1} per
+/// coordinate from a xorshift sequence (seed 0: the exact grid): the robustness check for
+/// anything that changes round-off (docs/algorithms/flattenable.md, "Double roots"). Seeds
+/// 0–6 (SEEDS=…), two at a time; N for another size, TARGET=zero.
+fn saddles() {
+    let n: usize = std::env::var("N")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100);
+    let seeds: Vec<u64> = std::env::var("SEEDS")
+        .map(|s| s.split(',').filter_map(|x| x.parse().ok()).collect())
+        .unwrap_or((0..7).collect());
+    let mut opts = ProcessOptions::default();
+    if std::env::var("TARGET").as_deref() == Ok("zero") {
+        opts.target = Target::Zero;
+    }
+    if std::env::var_os("LS").is_some() {
+        opts.update = Update::LeastSquare;
+    }
+    let run = |seed: u64| -> String {
+        let mut mesh = common::saddle(n);
+        if seed > 0 {
+            common::perturb_by_one_ulp(&mut mesh, seed);
+        }
+        let t = std::time::Instant::now();
+        let (rep, out) = match process(&mesh, &opts) {
+            Ok(p) => (p.report, p.mesh),
+            Err(FlattenableError::NotConverged { partial, .. }) => (partial.report, partial.mesh),
+            Err(e) => return format!("seed {seed}: ERR {e}"),
+        };
+        if std::env::var_os("DIAG").is_some() {
+            // Grid cells (column, row) of a face's corners.
+            let cells = |f: usize| -> String {
+                let cell = |v: u32| format!("({},{})", v as usize % n, v as usize / n);
+                out.faces[f].map(cell).join(" ")
+            };
+            let smallest = |a: [f64; 3]| a.iter().cloned().fold(f64::INFINITY, f64::min);
+            let n0 = flatcut_mesh::geometry::face_normals(&mesh.positions, &mesh.faces);
+            let n1 = flatcut_mesh::geometry::face_normals(&out.positions, &out.faces);
+            let mut turn: Vec<(f64, usize)> = n0
+                .iter()
+                .zip(&n1)
+                .enumerate()
+                .map(|(f, (a, b))| (flatcut_mesh::vec3::dot(*a, *b), f))
+                .collect();
+            turn.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for &(c, f) in turn.iter().take(4) {
+                let deg = c.clamp(-1.0, 1.0).acos().to_degrees();
+                eprintln!(
+                    "  seed {seed} face {f} normal turned {deg:.1}° at {}",
+                    cells(f)
+                );
+            }
+            let ang = flatcut_mesh::geometry::corner_angles(&out.positions, &out.faces);
+            let ang0 = flatcut_mesh::geometry::corner_angles(&mesh.positions, &mesh.faces);
+            let mut worst: Vec<(f64, usize)> = ang
+                .iter()
+                .enumerate()
+                .map(|(f, a)| (smallest(*a), f))
+                .collect();
+            worst.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for &(a, f) in worst.iter().take(3) {
+                eprintln!(
+                    "  seed {seed} face {f} min corner {:.2}° (input {:.1}°) at {}",
+                    a.to_degrees(),
+                    smallest(ang0[f]).to_degrees(),
+                    cells(f)
+                );
+            }
+        }
+        let p = &rep.pieces[0];
+        format!(
+            "seed {seed}: {} it={} rej={} fact={} err={:.1e} rmsd={:.4} area={:+.3}% t={:.1}s stop={}",
+            if rep.converged { "conv" } else { "NOTCONV" },
+            p.iterations,
+            p.rejected_steps,
+            p.factorizations,
+            p.final_theta_err,
+            p.rms_displacement_mm,
+            p.area_change_percent,
+            t.elapsed().as_secs_f64(),
+            p.stop_reason
+        )
+    };
+    for pair in seeds.chunks(2) {
+        let out: Vec<String> = std::thread::scope(|sc| {
+            let hs: Vec<_> = pair.iter().map(|&s| sc.spawn(move || run(s))).collect();
+            hs.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for line in out {
+            println!("{line}");
+        }
+    }
+}
+
 fn main() {
     match std::env::args().nth(1).as_deref().unwrap_or("table") {
         "probe" => probe(),
@@ -706,9 +802,10 @@ fn main() {
         "real" => real(),
         "bodies" => bodies(),
         "speed" => speed(),
+        "saddles" => saddles(),
         other => {
             eprintln!(
-                "unknown table '{other}': use table, probe, probe_weights, probe_targets, real or bodies"
+                "unknown table '{other}': use table, probe, probe_weights, probe_targets, real, bodies, speed or saddles"
             );
             std::process::exit(2);
         }

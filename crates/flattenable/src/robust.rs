@@ -18,7 +18,9 @@
 //! of θ = 2π, one step along the constraint set towards the input (the null-space
 //! projection of v⁰ − v), after which the plain steps restore θ = 2π; the rounds approach a
 //! stationary point of the paper's Eq. 1 (least total displacement), not just the end of a
-//! path of least steps.
+//! path of least steps. A pull-back whose restoring steps do not end, within
+//! `PULL_BACK_RESTORE_MAX` iterations, at less displacement than before it is undone (the
+//! whole iteration state), and the run goes on as the zero target's would.
 //!
 //! Double roots: after `LIFT_AFTER` iterations without gain, nearly flat vertices with excess
 //! angle (whose rows of A nearly vanish) get a second-order step along their normal
@@ -82,12 +84,37 @@ const MU_DOWN: f64 = 10.0;
 const PULL_BACK_MAX_ERR_RAD: f64 = 1e-4;
 const PULL_BACK_HALVINGS: usize = 20;
 /// A pull-back is undone when the plain steps have not restored θ_err ≤ `PULL_BACK_AT_RAD`
-/// within this many iterations (on the 100k-face cap restoring took longer than the
-/// iteration limit allowed; grids up to 100×100 restore in 3–15).
-const PULL_BACK_RESTORE_MAX: usize = 30;
+/// within this many iterations. The 41 pull-backs kept on the grids of the speed and target
+/// tables (1k–20k faces) were restored in 1–10 iterations, 34 of them in one; on the 100×100
+/// and 225×225 caps restoring ran 30 iterations and ended with more displacement than
+/// before or not at all (docs/algorithms/flattenable.md, "Pull-backs that do not pay").
+const PULL_BACK_RESTORE_MAX: usize = 10;
 /// Smallest relative damping of the pull-back's projection (its rows may nearly vanish at
 /// flat vertices; a projection needs no step control, only a defined factorisation).
 const PULL_BACK_MU: f64 = 1e-10;
+
+/// The iteration state before a pull-back, to undo it (`Target::Detail`).
+struct Snapshot {
+    iterations: usize,
+    /// Σ ‖v − v⁰‖² over the interior at `pos`.
+    moved: f64,
+    pos: Vec<[f64; 3]>,
+    mu: f64,
+    stiff: Vec<f64>,
+    best: (f64, Vec<[f64; 3]>),
+    best_at: usize,
+    last_lift: usize,
+    gain_ref: f64,
+}
+
+/// Σ ‖a − v‖² over paired points.
+fn displacement2(anchor: &[[f64; 3]], interior: &[[f64; 3]]) -> f64 {
+    anchor
+        .iter()
+        .zip(interior)
+        .map(|(a, v)| (a[0] - v[0]).powi(2) + (a[1] - v[1]).powi(2) + (a[2] - v[2]).powi(2))
+        .sum()
+}
 
 /// Outcome of a robust run on one piece.
 pub struct RobustOutcome {
@@ -162,14 +189,15 @@ pub fn run_from(
     };
     // Target::Detail: the input the pull-backs move towards, and how many remain.
     let anchor = piece.interior_of(&piece.pos0);
+
     let mut pull_backs = if opts.target == Target::Detail {
         PULL_BACKS
     } else {
         0
     };
-    // The iteration of the last pull-back and the restored state before it, until the plain
-    // steps have restored θ = 2π again.
-    let mut restoring: Option<(usize, Vec<[f64; 3]>)> = None;
+    // The iteration of the last pull-back and the state before it, until the plain steps
+    // have restored θ = 2π again and the pull-back is kept or undone.
+    let mut restoring: Option<(usize, Snapshot)> = None;
     // Extra per-vertex stiffness (≥ 1) earned by vertices of faces that would fold.
     let mut stiff = vec![1.0f64; n];
     let mut mu = MU_START;
@@ -180,27 +208,60 @@ pub fn run_from(
     let mut lifts = 0usize;
     report.stop_reason = "iteration limit".into();
     loop {
-        if let Some((at, before)) = &restoring {
+        // A pull-back under way: `None` while its restoring steps go on, then `Some(None)`
+        // to keep it or `Some(Some(reason))` to undo it.
+        let decided = restoring.as_ref().and_then(|(at, before)| {
             if err <= PULL_BACK_AT_RAD {
-                restoring = None;
+                // Restored: kept only if it did what it is for, less displacement from the
+                // input (the restoring steps can take back more than the pull-back gave: on
+                // the 100×100 cap the RMS displacement rose from 0.07118 to 0.07138).
+                Some(
+                    (displacement2(&anchor, &piece.interior_of(&pos)) >= before.moved)
+                        .then_some("it did not reduce the displacement from the input"),
+                )
             } else if report.iterations >= at + PULL_BACK_RESTORE_MAX {
-                // Restoring takes too long (large pieces): undo the pull-back and finish from
-                // the restored state before it with plain steps, so that the detail target
-                // never ends worse than the zero target's path would.
-                pos = before.clone();
-                restoring = None;
-                pull_backs = 0;
-                layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
-                (err, f) = Piece::errors(&theta);
-                best_at = report.iterations;
-                gain_ref = f;
-                report.messages.push(format!(
-                    "pull-back undone: θ = 2π not restored within {PULL_BACK_RESTORE_MAX} iterations"
-                ));
+                Some(Some(
+                    "θ = 2π was not restored within the restoring iterations",
+                ))
+            } else {
+                None
             }
+        });
+        if let Some(undo) = decided
+            && let Some((_, before)) = restoring.take()
+            && let Some(why) = undo
+        {
+            // Undo it: back to the state before, damping, stiffness and best state included,
+            // and no more pull-backs, so that the detail target from here follows the zero
+            // target's path bit for bit (its stall and lift counts shifted by the iterations
+            // spent).
+            let spent = report.iterations - before.iterations;
+            pos = before.pos;
+            mu = before.mu;
+            stiff = before.stiff;
+            best = before.best;
+            best_at = before.best_at + spent;
+            last_lift = before.last_lift + spent;
+            gain_ref = before.gain_ref;
+            pull_backs = 0;
+            layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+            (err, f) = Piece::errors(&theta);
+            report
+                .messages
+                .push(format!("pull-back undone after {spent} iterations: {why}"));
         }
         if pull_backs > 0 && ls.is_none() && err <= PULL_BACK_AT_RAD {
-            let before = pos.clone();
+            let before = Snapshot {
+                iterations: report.iterations,
+                moved: displacement2(&anchor, &piece.interior_of(&pos)),
+                pos: pos.clone(),
+                mu,
+                stiff: stiff.clone(),
+                best: best.clone(),
+                best_at,
+                last_lift,
+                gain_ref,
+            };
             let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
             let interior = piece.interior_of(&pos);
             // Detail target: near the constraint set, move along its tangent space towards
