@@ -292,6 +292,11 @@ fn patch_demo_cap_becomes_developable_and_flattens_to_true_size() {
         cap.process.theta_err_history.last().copied(),
         Some(cap.process.theta_err_after)
     );
+    // The cap's flattenable neighbour is smooth: no edge bends 30° more than in the input
+    // (measured: 0°), though the faces turn (~30° at the rim).
+    assert_eq!(cap.process.creased_edges, 0, "{:?}", cap.process);
+    assert!(cap.process.max_crease_deg < 30.0, "{:?}", cap.process);
+    assert!(cap.process.max_normal_turn_deg > 1.0, "{:?}", cap.process);
     // A developable piece flattens isometrically: edge lengths, area and boundary length
     // are kept (independent measurements of one property).
     let f = &cap.flatten;

@@ -179,11 +179,15 @@ fn text_report(r: &ProcessReport) -> String {
     );
     outln!(
         o,
-        "displacement: max {:.4} mm, RMS {:.4} mm; area change {:+.3} %; folded faces {}; {:.3} s",
+        "displacement: max {:.4} mm, RMS {:.4} mm; area change {:+.3} %; folded faces {}; normals turned by up to {:.1}°; creases {} edges (bend grown by > {:.0}°, up to {:.1}°); {:.3} s",
         r.max_displacement_mm,
         r.rms_displacement_mm,
         r.area_change_percent,
         r.folded_faces,
+        r.max_normal_turn_deg,
+        r.creased_edges,
+        flatcut_flattenable::CREASE_DEG,
+        r.max_crease_deg,
         r.seconds
     );
     if r.pieces.len() > 1 {

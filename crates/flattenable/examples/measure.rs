@@ -667,7 +667,7 @@ fn speed() {
             let (r, ok) = rep.unwrap();
             let p = &r.pieces[0];
             println!(
-                "{} faces {:?}: {ok} it={} rej={} fact={} pb={} err={:.1e} area={:+.3}% rmsd={:.4} | wall {:.1} ms, CPU {:.1} ms = {:.1} Cholesky ({:.3} ms); per factorisation {:.2}x; stop: {}",
+                "{} faces {:?}: {ok} it={} rej={} fact={} pb={} err={:.1e} area={:+.3}% rmsd={:.4} turn={:.1}° crease={:.1}° creased={} | wall {:.1} ms, CPU {:.1} ms = {:.1} Cholesky ({:.3} ms); per factorisation {:.2}x; stop: {}",
                 p.faces,
                 target,
                 p.iterations,
@@ -677,6 +677,9 @@ fn speed() {
                 p.final_theta_err,
                 p.area_change_percent,
                 p.rms_displacement_mm,
+                p.max_normal_turn_deg,
+                p.max_crease_deg,
+                p.creased_edges,
                 best * 1e3,
                 best_cpu * 1e3,
                 best_cpu / chol,
@@ -770,7 +773,7 @@ fn saddles() {
         }
         let p = &rep.pieces[0];
         format!(
-            "seed {seed}: {} it={} rej={} fact={} err={:.1e} rmsd={:.4} area={:+.3}% t={:.1}s stop={}",
+            "seed {seed}: {} it={} rej={} fact={} err={:.1e} rmsd={:.4} area={:+.3}% turn={:.1}° crease={:.1}° creased={} t={:.1}s stop={}",
             if rep.converged { "conv" } else { "NOTCONV" },
             p.iterations,
             p.rejected_steps,
@@ -778,6 +781,9 @@ fn saddles() {
             p.final_theta_err,
             p.rms_displacement_mm,
             p.area_change_percent,
+            p.max_normal_turn_deg,
+            p.max_crease_deg,
+            p.creased_edges,
             t.elapsed().as_secs_f64(),
             p.stop_reason
         )
@@ -793,6 +799,100 @@ fn saddles() {
     }
 }
 
+/// The state where the tail begins: the bench cap N×N (zero target) stopped after IT
+/// iterations; per interior vertex θ − 2π, the row norm of A times the mean edge, and the
+/// star's distance from its best plane over the mean edge.
+fn tail() {
+    use flatcut_flattenable::angle_gradient::angle_sum_gradient;
+    let n: usize = std::env::var("N")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100);
+    let it: usize = std::env::var("IT")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(23);
+    let mesh = flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+    let opts = ProcessOptions {
+        target: Target::Zero,
+        max_iterations: Some(it),
+        ..Default::default()
+    };
+    let out = match process(&mesh, &opts) {
+        Ok(p) => p.mesh,
+        Err(FlattenableError::NotConverged { partial, .. }) => partial.mesh,
+        Err(e) => panic!("{e}"),
+    };
+    let topo = flatcut_mesh::Topology::build(&out).unwrap();
+    let mut rows = Vec::new();
+    for v in 0..out.vertex_count() as u32 {
+        let vid = flatcut_mesh::VertexId(v);
+        if !topo.is_interior_vertex(vid) {
+            continue;
+        }
+        let (theta, grads) = angle_sum_gradient(&out.positions, &out.faces, &topo, vid);
+        let ring = topo.one_ring(vid).unwrap();
+        let p = out.positions[v as usize];
+        let h: f64 = ring
+            .iter()
+            .map(|&q| flatcut_mesh::vec3::dist(p, out.positions[q as usize]))
+            .sum::<f64>()
+            / ring.len() as f64;
+        let norm: f64 = grads
+            .iter()
+            .map(|(_, g)| g.iter().map(|c| c * c).sum::<f64>())
+            .sum::<f64>()
+            .sqrt();
+        // Flatness: distance of the centre from the plane through the ring's centroid with
+        // the area-weighted star normal, over h.
+        let mut nrm = [0.0; 3];
+        for k in 0..ring.len() {
+            let a = out.positions[ring[k] as usize];
+            let b = out.positions[ring[(k + 1) % ring.len()] as usize];
+            let c = flatcut_mesh::vec3::cross(
+                flatcut_mesh::vec3::sub(a, p),
+                flatcut_mesh::vec3::sub(b, p),
+            );
+            nrm = flatcut_mesh::vec3::add(nrm, c);
+        }
+        let nl = flatcut_mesh::vec3::norm(nrm);
+        let mut dev = 0.0f64;
+        for &q in ring {
+            let d =
+                flatcut_mesh::vec3::dot(flatcut_mesh::vec3::sub(out.positions[q as usize], p), nrm)
+                    / nl;
+            dev = dev.max(d.abs());
+        }
+        rows.push((theta - std::f64::consts::TAU, norm * h, dev / h, v));
+    }
+    let total: f64 = rows.iter().map(|r| r.0 * r.0).sum();
+    rows.sort_by(|a, b| b.0.abs().total_cmp(&a.0.abs()));
+    let mut norms: Vec<f64> = rows.iter().map(|r| r.1).collect();
+    norms.sort_by(f64::total_cmp);
+    println!(
+        "f = {total:.3e}; row·h median {:.2e}, p10 {:.2e}, p1 {:.2e}",
+        norms[norms.len() / 2],
+        norms[norms.len() / 10],
+        norms[norms.len() / 100]
+    );
+    let mut acc = 0.0;
+    for (k, r) in rows.iter().enumerate() {
+        acc += r.0 * r.0;
+        if k < 15 || (k % 50 == 0 && acc < 0.99 * total) {
+            println!(
+                "  #{k} v{} ({},{}): θ−2π {:+.2e} row·h {:.2e} ring off-plane {:.2e} h; cum {:.3}",
+                r.3,
+                r.3 as usize % n,
+                r.3 as usize / n,
+                r.0,
+                r.1,
+                r.2,
+                acc / total
+            );
+        }
+    }
+}
+
 fn main() {
     match std::env::args().nth(1).as_deref().unwrap_or("table") {
         "probe" => probe(),
@@ -803,6 +903,7 @@ fn main() {
         "bodies" => bodies(),
         "speed" => speed(),
         "saddles" => saddles(),
+        "tail" => tail(),
         other => {
             eprintln!(
                 "unknown table '{other}': use table, probe, probe_weights, probe_targets, real, bodies, speed or saddles"

@@ -29,4 +29,4 @@ mod robust;
 pub use error::FlattenableError;
 pub use options::{CoarseToFine, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update};
 pub use process::{Processed, process};
-pub use report::{PieceReport, ProcessReport};
+pub use report::{CREASE_DEG, PieceReport, ProcessReport};

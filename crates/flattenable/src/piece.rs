@@ -171,6 +171,45 @@ impl Piece {
             0.0
         };
         report.folded_faces = self.folded_faces(positions);
+        let normals = face_normals(positions, &self.faces);
+        let n0 = &self.guard.normals0;
+        // How far the surface turned: the largest angle between a face's normal and its
+        // input normal (degenerate input faces have none).
+        report.max_normal_turn_deg = n0
+            .iter()
+            .zip(&normals)
+            .filter(|(a, _)| dot(**a, **a) > 0.0)
+            .map(|(a, b)| angle_between(*a, *b))
+            .fold(0.0, f64::max)
+            .to_degrees();
+        // Where it creased: interior edges whose bend (the angle between the normals of its
+        // two faces) grew by more than CREASE_DEG over the input's.
+        let crease = crate::report::CREASE_DEG.to_radians();
+        let mut sharpest = (0.0f64, 0u32);
+        report.creased_edges = 0;
+        for h in 0..3 * self.faces.len() as u32 {
+            let Some(t) = self.topo.twin(h).filter(|&t| t > h) else {
+                continue;
+            };
+            let (f, g) = (Topology::face(h).idx(), Topology::face(t).idx());
+            let grown = angle_between(normals[f], normals[g]) - angle_between(n0[f], n0[g]);
+            if grown > sharpest.0 {
+                sharpest = (grown, self.topo.from_vertex(h).0);
+            }
+            if grown > crease {
+                report.creased_edges += 1;
+            }
+        }
+        report.max_crease_deg = sharpest.0.to_degrees();
+        if report.creased_edges > 0 {
+            let at = self.vertex_map[sharpest.1 as usize];
+            report.messages.push(format!(
+                "the processed surface creases: {} edges bend by more than {:.0}° beyond the input's bend (up to {:.0}°, at input vertex {at}); the flattened piece folds there — a dart or a cut along that line keeps it smooth",
+                report.creased_edges,
+                crate::report::CREASE_DEG,
+                report.max_crease_deg
+            ));
+        }
         report.min_angle_deg = corner_angles(positions, &self.faces)
             .iter()
             .flatten()
@@ -220,4 +259,9 @@ impl Piece {
             .map(|&p| flatcut_mesh::vec3::normalize(acc[p as usize]))
             .collect()
     }
+}
+
+/// The angle between two unit vectors (radians; atan2 form, accurate for small angles).
+fn angle_between(a: [f64; 3], b: [f64; 3]) -> f64 {
+    flatcut_mesh::vec3::norm(cross(a, b)).atan2(dot(a, b))
 }

@@ -389,6 +389,9 @@ fn summarise(
             0.0
         },
         folded_faces: pieces.iter().map(|p| p.folded_faces).sum(),
+        max_normal_turn_deg: pieces.iter().fold(0.0, |m, p| m.max(p.max_normal_turn_deg)),
+        max_crease_deg: pieces.iter().fold(0.0, |m, p| m.max(p.max_crease_deg)),
+        creased_edges: pieces.iter().map(|p| p.creased_edges).sum(),
         seconds,
         messages: pieces
             .iter()

@@ -7,6 +7,11 @@
 
 use serde::Serialize;
 
+/// An interior edge whose bend (the angle between its two faces' normals) grew by more than
+/// this over the input's (degrees) counts as creased: see docs/algorithms/flattenable.md,
+/// "Creases", for the values measured on smooth and pleated results.
+pub const CREASE_DEG: f64 = 30.0;
+
 /// The outcome of one connected component.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct PieceReport {
@@ -44,6 +49,15 @@ pub struct PieceReport {
     pub folded_faces: usize,
     /// Smallest corner angle of the result (degrees).
     pub min_angle_deg: f64,
+    /// Largest angle between a face's normal in the result and in the input (degrees;
+    /// below 90 in robust mode, whose fold guard rejects more).
+    pub max_normal_turn_deg: f64,
+    /// Largest growth of an interior edge's bend over the input's (degrees): how sharply
+    /// the result creases where the input did not.
+    pub max_crease_deg: f64,
+    /// Interior edges whose bend grew by more than [`CREASE_DEG`]: where the flattenable
+    /// surface creases (the one nearest a saddle is pleated) and the flattened piece folds.
+    pub creased_edges: usize,
     /// Trial steps rejected by the merit test or the fold guards (robust mode).
     pub rejected_steps: usize,
     /// Rejected trials rescued by a fraction of the same step (no new factorisation;
@@ -86,6 +100,12 @@ pub struct ProcessReport {
     pub area_change_percent: f64,
     /// Folded faces over all pieces.
     pub folded_faces: usize,
+    /// Largest normal turn against the input over the pieces (degrees).
+    pub max_normal_turn_deg: f64,
+    /// Largest crease over the pieces (see [`PieceReport::max_crease_deg`]).
+    pub max_crease_deg: f64,
+    /// Creased edges over all pieces (see [`PieceReport::creased_edges`]).
+    pub creased_edges: usize,
     /// Wall time of the whole call (seconds).
     pub seconds: f64,
     /// One entry per connected component.

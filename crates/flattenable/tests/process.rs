@@ -222,3 +222,70 @@ fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
         "{s:?}"
     );
 }
+
+/// Largest growth of an interior edge's bend (angle between its faces' normals) from
+/// `input` to `output`, in degrees, computed here with acos of the normals' dot product
+/// (the library uses atan2), and the number of edges grown by more than `limit_deg`.
+fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usize) {
+    use flatcut_mesh::geometry::face_normals;
+    let topo = flatcut_mesh::Topology::build(input).unwrap();
+    let (n0, n1) = (
+        face_normals(&input.positions, &input.faces),
+        face_normals(&output.positions, &output.faces),
+    );
+    let bend = |n: &[[f64; 3]], f: usize, g: usize| {
+        flatcut_mesh::vec3::dot(n[f], n[g])
+            .clamp(-1.0, 1.0)
+            .acos()
+            .to_degrees()
+    };
+    let (mut max, mut count) = (0.0f64, 0);
+    for h in 0..3 * input.faces.len() as u32 {
+        if let Some(t) = topo.twin(h).filter(|&t| t > h) {
+            let (f, g) = (
+                flatcut_mesh::Topology::face(h).idx(),
+                flatcut_mesh::Topology::face(t).idx(),
+            );
+            let grown = bend(&n1, f, g) - bend(&n0, f, g);
+            max = max.max(grown);
+            count += usize::from(grown > limit_deg);
+        }
+    }
+    (max, count)
+}
+
+#[test]
+fn creases_of_the_result_are_measured_and_named() {
+    // The cap's flattenable neighbour is smooth (edges bend ≤ 9° more than in the input on
+    // the grids measured); the saddle's is pleated (bends grown by 115–155°): the report
+    // says so and where, and its numbers equal an independent recount.
+    for (mesh, creased) in [(common::sphere_cap(12), false), (common::saddle(12), true)] {
+        let r = process(&mesh, &ProcessOptions::default()).unwrap();
+        let p = &r.report.pieces[0];
+        let (max, count) = crease_growth(&mesh, &r.mesh, flatcut_flattenable::CREASE_DEG);
+        assert!(
+            (p.max_crease_deg - max).abs() < 1e-6,
+            "{} vs {max}",
+            p.max_crease_deg
+        );
+        assert_eq!(p.creased_edges, count);
+        assert_eq!(r.report.creased_edges, count);
+        let named = p
+            .messages
+            .iter()
+            .any(|m| m.contains("creases") && m.contains("input vertex"));
+        if creased {
+            assert!(
+                max > 90.0 && count > 10,
+                "saddle: {max}° over {count} edges"
+            );
+            assert!(named, "{:?}", p.messages);
+        } else {
+            assert!(max < 15.0 && count == 0, "cap: {max}° over {count} edges");
+            assert!(!named, "{:?}", p.messages);
+        }
+        // The turn of the normals against the input, the other measure: the cap's faces
+        // turn by ~22°, the saddle's by more than the crease limit.
+        assert!(p.max_normal_turn_deg > 5.0 && p.max_normal_turn_deg < 90.0);
+    }
+}

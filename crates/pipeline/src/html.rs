@@ -285,12 +285,12 @@ figcaption{{text-align:center;font-size:12px}}.piece{{border-top:1px solid #ccc;
         }
     }
 
-    s.push_str("\n<h2>Pieces</h2><table><tr><th class=\"l\">piece</th><th>faces</th><th>θ_err before</th><th>θ_err after</th><th>it</th><th>RMS disp mm</th><th>max disp mm</th><th>area %</th><th>E_h mean</th><th>E_h p95</th><th>E_h max</th><th>E_r mean</th><th>E_r p95</th><th>E_r max</th><th>max strain</th><th>boundary 3D mm</th><th>boundary 2D mm</th></tr>");
+    s.push_str("\n<h2>Pieces</h2><table><tr><th class=\"l\">piece</th><th>faces</th><th>θ_err before</th><th>θ_err after</th><th>it</th><th>RMS disp mm</th><th>max disp mm</th><th>area %</th><th>crease °</th><th>E_h mean</th><th>E_h p95</th><th>E_h max</th><th>E_r mean</th><th>E_r p95</th><th>E_r max</th><th>max strain</th><th>boundary 3D mm</th><th>boundary 2D mm</th></tr>");
     for p in &report.pieces {
         let bad = !p.process.converged || p.flatten.flipped_faces > 0;
         let _ = write!(
             s,
-            "<tr{}><td class=\"l\">{}</td><td>{}</td><td>{:.2e}</td><td>{:.2e}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:+.3}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td></tr>",
+            "<tr{}><td class=\"l\">{}</td><td>{}</td><td>{:.2e}</td><td>{:.2e}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:+.3}</td><td>{}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td></tr>",
             if bad { " class=\"bad\"" } else { "" },
             esc(&p.name),
             p.faces,
@@ -300,6 +300,14 @@ figcaption{{text-align:center;font-size:12px}}.piece{{border-top:1px solid #ccc;
             p.process.rms_displacement_mm,
             p.process.max_displacement_mm,
             p.process.area_change_percent,
+            if p.process.creased_edges > 0 {
+                format!(
+                    "{:.0} ({} edges)",
+                    p.process.max_crease_deg, p.process.creased_edges
+                )
+            } else {
+                format!("{:.0}", p.process.max_crease_deg)
+            },
             p.flatten.e_h.mean,
             p.flatten.e_h.p95,
             p.flatten.e_h.max,

@@ -171,6 +171,13 @@ pub struct ProcessSummary {
     pub max_displacement_mm: f64,
     /// Change of the total area (%).
     pub area_change_percent: f64,
+    /// Largest turn of a face normal against the input (degrees).
+    pub max_normal_turn_deg: f64,
+    /// Largest growth of an edge's bend over the input's (degrees).
+    pub max_crease_deg: f64,
+    /// Edges whose bend grew by more than `flatcut_flattenable::CREASE_DEG`: where the
+    /// processed surface creases and the flattened piece folds.
+    pub creased_edges: usize,
     /// Why it stopped.
     pub stop_reason: String,
     /// θ_err of the input and after every accepted iteration (rad): the convergence plot.
