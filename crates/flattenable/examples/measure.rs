@@ -46,6 +46,21 @@ fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
     );
 }
 
+/// The environment variable `name` parsed, or `default` when unset or unparsable.
+fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
+    std::env::var(name)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
+/// The comma-separated list in `name`, or `default` when unset.
+fn env_list<T: std::str::FromStr>(name: &str, default: Vec<T>) -> Vec<T> {
+    std::env::var(name)
+        .map(|s| s.split(',').filter_map(|x| x.parse().ok()).collect())
+        .unwrap_or(default)
+}
+
 /// Coarse-to-fine options from the environment: C2F=off|pos|disp (default: the library's),
 /// C2F_MIN (min_faces), C2F_MAX (max_faces; unlimited when C2F=pos|disp), C2F_LEVELS,
 /// C2F_RATIO.
@@ -82,10 +97,7 @@ fn c2f_from_env() -> CoarseToFine {
 }
 
 fn probe() {
-    let n: usize = std::env::var("N")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(12);
+    let n: usize = env_or("N", 12);
     let which = std::env::var("W").unwrap_or("all".into());
     let meshes = [
         ("cap", common::sphere_cap(n)),
@@ -574,13 +586,8 @@ fn cpu_ns() -> u64 {
 /// piece, `PROLONG=positions` switches the prolongation, `ONLY_TARGET=zero|detail` runs one target.
 fn speed() {
     use flatcut_flattenable::least_norm::{Layout, Metric};
-    let reps: usize = std::env::var("REPS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(3);
-    let sizes: Vec<usize> = std::env::var("SIZES")
-        .map(|s| s.split(',').filter_map(|x| x.parse().ok()).collect())
-        .unwrap_or(vec![12, 24, 33, 43, 72]);
+    let reps: usize = env_or("REPS", 3);
+    let sizes: Vec<usize> = env_list("SIZES", vec![12, 24, 33, 43, 72]);
     for n in sizes {
         let mesh = flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
         let topo = flatcut_mesh::Topology::build(&mesh).unwrap();
@@ -698,21 +705,13 @@ fn speed() {
     }
 }
 
-/// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets|real|bodies]`
-/// prints the measurement tables of docs/algorithms/flattenable.md (a tool, not a test: it asserts
-/// nothing; the tests assert the numbers that must hold).
 /// The 100×100 saddle with its coordinates multiplied by 1 + k·2.2e-16, k ∈ {−1, 0, 1} per
 /// coordinate from a xorshift sequence (seed 0: the exact grid): the robustness check for
 /// anything that changes round-off (docs/algorithms/flattenable.md, "Double roots"). Seeds
 /// 0–6 (SEEDS=…), two at a time; N for another size, TARGET=zero.
 fn saddles() {
-    let n: usize = std::env::var("N")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(100);
-    let seeds: Vec<u64> = std::env::var("SEEDS")
-        .map(|s| s.split(',').filter_map(|x| x.parse().ok()).collect())
-        .unwrap_or((0..7).collect());
+    let n: usize = env_or("N", 100);
+    let seeds: Vec<u64> = env_list("SEEDS", (0..7).collect());
     let mut opts = ProcessOptions::default();
     if std::env::var("TARGET").as_deref() == Ok("zero") {
         opts.target = Target::Zero;
@@ -804,14 +803,8 @@ fn saddles() {
 /// star's distance from its best plane over the mean edge.
 fn tail() {
     use flatcut_flattenable::angle_gradient::angle_sum_gradient;
-    let n: usize = std::env::var("N")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(100);
-    let it: usize = std::env::var("IT")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(23);
+    let n: usize = env_or("N", 100);
+    let it: usize = env_or("IT", 23);
     let mesh = flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
     let opts = ProcessOptions {
         target: Target::Zero,
@@ -893,6 +886,9 @@ fn tail() {
     }
 }
 
+/// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets|real|bodies|speed|saddles|tail]`
+/// prints the measurement tables of docs/algorithms/flattenable.md (a tool, not a test: it asserts
+/// nothing; the tests assert the numbers that must hold).
 fn main() {
     match std::env::args().nth(1).as_deref().unwrap_or("table") {
         "probe" => probe(),
