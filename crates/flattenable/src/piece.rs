@@ -5,7 +5,7 @@
 use std::f64::consts::TAU;
 
 use flatcut_mesh::geometry::{corner_angles, face_areas, face_normals};
-use flatcut_mesh::vec3::{cross, dot, sub};
+use flatcut_mesh::vec3::{angle, cross, dot, sub};
 use flatcut_mesh::{Topology, TriMesh};
 
 use crate::least_norm::Layout;
@@ -174,12 +174,11 @@ impl Piece {
         let normals = face_normals(positions, &self.faces);
         let n0 = &self.guard.normals0;
         // How far the surface turned: the largest angle between a face's normal and its
-        // input normal (degenerate input faces have none).
+        // input normal.
         report.max_normal_turn_deg = n0
             .iter()
             .zip(&normals)
-            .filter(|(a, _)| dot(**a, **a) > 0.0)
-            .map(|(a, b)| angle_between(*a, *b))
+            .map(|(a, b)| angle(*a, *b))
             .fold(0.0, f64::max)
             .to_degrees();
         // Where it creased: interior edges whose bend (the angle between the normals of its
@@ -192,7 +191,7 @@ impl Piece {
                 continue;
             };
             let (f, g) = (Topology::face(h).idx(), Topology::face(t).idx());
-            let grown = angle_between(normals[f], normals[g]) - angle_between(n0[f], n0[g]);
+            let grown = angle(normals[f], normals[g]) - angle(n0[f], n0[g]);
             if grown > sharpest.0 {
                 sharpest = (grown, self.topo.from_vertex(h).0);
             }
@@ -259,9 +258,4 @@ impl Piece {
             .map(|&p| flatcut_mesh::vec3::normalize(acc[p as usize]))
             .collect()
     }
-}
-
-/// The angle between two unit vectors (radians; atan2 form, accurate for small angles).
-fn angle_between(a: [f64; 3], b: [f64; 3]) -> f64 {
-    flatcut_mesh::vec3::norm(cross(a, b)).atan2(dot(a, b))
 }

@@ -189,7 +189,6 @@ pub fn run_from(
     };
     // Target::Detail: the input the pull-backs move towards, and how many remain.
     let anchor = piece.interior_of(&piece.pos0);
-
     let mut pull_backs = if opts.target == Target::Detail {
         PULL_BACKS
     } else {
@@ -251,9 +250,13 @@ pub fn run_from(
                 .push(format!("pull-back undone after {spent} iterations: {why}"));
         }
         if pull_backs > 0 && ls.is_none() && err <= PULL_BACK_AT_RAD {
+            let interior = piece.interior_of(&pos);
+            // Σ ‖v⁰ − v‖² now: what the pull-back must shorten, and what it is judged against
+            // once θ = 2π is restored.
+            let z2 = displacement2(&anchor, &interior);
             let before = Snapshot {
                 iterations: report.iterations,
-                moved: displacement2(&anchor, &piece.interior_of(&pos)),
+                moved: z2,
                 pos: pos.clone(),
                 mu,
                 stiff: stiff.clone(),
@@ -263,7 +266,6 @@ pub fn run_from(
                 gain_ref,
             };
             let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
-            let interior = piece.interior_of(&pos);
             // Detail target: near the constraint set, move along its tangent space towards
             // the input — p = z − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A z with z = v⁰ − v, the G⁻¹-projection
             // of z onto the null space of A — then let the plain steps restore θ = 2π. The
@@ -299,10 +301,6 @@ pub fn run_from(
                     .zip(&gy)
                     .map(|(z, g)| [z[0] - g[0], z[1] - g[1], z[2] - g[2]])
                     .collect();
-                let z2: f64 = z
-                    .iter()
-                    .map(|v| v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-                    .sum();
                 let mut beta = 1.0;
                 let mut cand_theta = vec![0.0; n];
                 for _ in 0..PULL_BACK_HALVINGS {
@@ -311,14 +309,7 @@ pub fn run_from(
                         .zip(&p)
                         .map(|(v, p)| [v[0] + beta * p[0], v[1] + beta * p[1], v[2] + beta * p[2]])
                         .collect();
-                    let z2new: f64 = anchor
-                        .iter()
-                        .zip(&moved)
-                        .map(|(a, v)| {
-                            (a[0] - v[0]).powi(2) + (a[1] - v[1]).powi(2) + (a[2] - v[2]).powi(2)
-                        })
-                        .sum();
-                    if z2new > (1.0 - 2.0 * PULL_BACK_MIN_GAIN) * z2 {
+                    if displacement2(&anchor, &moved) > (1.0 - 2.0 * PULL_BACK_MIN_GAIN) * z2 {
                         break;
                     }
                     let cand = piece.with_interior(&pos, &moved);
