@@ -1,11 +1,9 @@
 //! `flatcut clean` end to end: a soup with a duplicate vertex, a degenerate face, a flipped
 //! face and a stray triangle comes back repaired, counted, and the input untouched.
 
-use std::process::Command;
+mod common;
 
-fn flatcut() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flatcut"))
-}
+use common::{flatcut, succeed_json};
 
 // A unit square as two triangles with vertex 4 duplicating vertex 2, the second triangle
 // flipped, a degenerate face (repeated index) and a far-away stray triangle (5, 6, 7).
@@ -18,18 +16,12 @@ fn clean_repairs_counts_and_never_touches_the_input() {
     let input = dir.path().join("soup.obj");
     std::fs::write(&input, SOUP).unwrap();
     let output = dir.path().join("clean.obj");
-    let out = flatcut()
-        .args(["clean", "--keep", "largest", "--json"])
-        .arg(&input)
-        .arg(&output)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let report = succeed_json(
+        flatcut()
+            .args(["clean", "--keep", "largest", "--json"])
+            .arg(&input)
+            .arg(&output),
     );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["welded_vertices"], 1);
     assert_eq!(report["degenerate_faces"], 1);
     assert_eq!(report["flipped_faces"], 1);

@@ -3,15 +3,14 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
+use common::flatcut;
+
 use std::path::Path;
-use std::process::Command;
 
 use flatcut_io::{Units, WriteOptions, read_mesh, write_mesh};
 use flatcut_mesh::{SeamKind, SeamLedger, TriMesh, shapes};
-
-fn flatcut() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flatcut"))
-}
 
 /// z = 30·exp(−r²/40²) over a disk of radius 100 mm, 6 rings; the top is vertex 0.
 fn bump() -> TriMesh {

@@ -1,33 +1,20 @@
 //! `flatcut demo` (the README's main-job command) end to end: the generated dress form is
 //! written as OBJ and GLB, both read back to the same surface, and its info JSON matches.
 
-use std::process::Command;
+mod common;
+
+use common::{flatcut, succeed, succeed_json};
 
 #[test]
 fn demo_writes_a_readable_dress_form_and_its_info() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_flatcut"))
-        .args(["demo", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeed(flatcut().args(["demo", "--out"]).arg(dir.path()));
     let info = |file: &str| -> serde_json::Value {
-        let out = Command::new(env!("CARGO_BIN_EXE_flatcut"))
-            .args(["info", "--json"])
-            .arg(dir.path().join(file))
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).unwrap()
+        succeed_json(
+            flatcut()
+                .args(["info", "--json"])
+                .arg(dir.path().join(file)),
+        )
     };
     let obj = info("dress_form.obj");
     // An open torso: one component, neck + two arm holes + bottom opening, χ = 2 − 2·0 − 4.
@@ -61,7 +48,7 @@ fn demo_writes_a_readable_dress_form_and_its_info() {
 #[test]
 fn demo_refuses_a_nonsense_measurement() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_flatcut"))
+    let out = flatcut()
         .args(["demo", "--bust-mm=-5", "--out"])
         .arg(dir.path())
         .output()

@@ -4,12 +4,11 @@
 
 #![allow(clippy::unwrap_used)]
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn flatcut() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flatcut"))
-}
+use common::flatcut;
+
+use std::path::Path;
 
 /// A 120° cylinder piece (radius 50 mm, 80 mm tall), `nu × nv` vertices, as OBJ text.
 fn cylinder_obj(nu: usize, nv: usize) -> String {

@@ -2,12 +2,11 @@
 
 #![allow(clippy::unwrap_used)]
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn flatcut() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flatcut"))
-}
+use common::{flatcut, succeed, succeed_json};
+
+use std::path::Path;
 
 /// A 120° cylinder piece (radius 50 mm, 80 mm tall) as OBJ text, `nu × nv` vertices.
 fn cylinder_obj(nu: usize, nv: usize) -> (String, Vec<[f64; 3]>, Vec<[usize; 3]>) {
@@ -90,19 +89,14 @@ fn flattens_a_cylinder_to_true_size_with_metrics() {
     std::fs::write(&input, obj).unwrap();
     let output = dir.path().join("flat.obj");
     let metrics = dir.path().join("m.json");
-    let out = flatcut()
-        .arg("flatten")
-        .arg(&input)
-        .arg(&output)
-        .args(["--grain", "0,1,0", "--metrics"])
-        .arg(&metrics)
-        .arg("--json")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = succeed(
+        flatcut()
+            .arg("flatten")
+            .arg(&input)
+            .arg(&output)
+            .args(["--grain", "0,1,0", "--metrics"])
+            .arg(&metrics)
+            .arg("--json"),
     );
     let (v, _vt, f) = read_obj(&output);
     assert_eq!(f, f3, "same faces in the same order");
@@ -182,19 +176,13 @@ fn lscm_method_and_given_pins() {
     let input = dir.path().join("cyl.obj");
     std::fs::write(&input, cylinder_obj(7, 4).0).unwrap();
     let output = dir.path().join("flat.obj");
-    let out = flatcut()
-        .arg("flatten")
-        .arg(&input)
-        .arg(&output)
-        .args(["--method", "lscm", "--pins", "0,27", "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let m = succeed_json(
+        flatcut()
+            .arg("flatten")
+            .arg(&input)
+            .arg(&output)
+            .args(["--method", "lscm", "--pins", "0,27", "--json"]),
     );
-    let m: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(m["pins"][0], serde_json::json!([0, 27]));
     // Conformal only: sizes drift on a curved piece.
     assert!(m["e_h"]["max"].as_f64().unwrap() > 1e-3);

@@ -3,8 +3,11 @@
 //! edge-manifold OBJ. Skipped when FLATCUT_DATA is unset; fails when it is set and a file
 //! the manifest lists is missing.
 
+mod common;
+
+use common::{flatcut, succeed_json};
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 #[derive(Debug)]
 struct Row {
@@ -70,18 +73,7 @@ fn parse_manifest(text: &str) -> Vec<Row> {
 }
 
 fn info_json(path: &Path) -> serde_json::Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_flatcut"))
-        .args(["info", "--json"])
-        .arg(path)
-        .output()
-        .expect("run flatcut");
-    assert!(
-        out.status.success(),
-        "flatcut info failed on {}: {}",
-        path.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("info --json prints JSON")
+    succeed_json(flatcut().args(["info", "--json"]).arg(path))
 }
 
 #[test]

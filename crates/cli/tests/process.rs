@@ -3,12 +3,11 @@
 
 #![allow(clippy::unwrap_used)]
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn flatcut() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flatcut"))
-}
+use common::flatcut;
+
+use std::path::Path;
 
 /// The 60° test cap (unit sphere over [−0.5, 0.5]², scaled to cm), n × n vertices.
 fn cap_obj(n: usize) -> String {

@@ -4,32 +4,25 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
+use common::{flatcut, succeed, succeed_json};
+
 use std::path::Path;
-use std::process::Command;
 
 use flatcut_mesh::shapes::icosphere;
 use flatcut_mesh::vec3::norm;
 
-fn flatcut() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flatcut"))
-}
-
 /// `flatcut remesh ARGS --json INPUT OUTPUT`, which must succeed; its JSON report.
 fn remesh_json(args: &[&str], input: &Path, output: &Path) -> serde_json::Value {
-    let out = flatcut()
-        .arg("remesh")
-        .args(args)
-        .arg("--json")
-        .arg(input)
-        .arg(output)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    succeed_json(
+        flatcut()
+            .arg("remesh")
+            .args(args)
+            .arg("--json")
+            .arg(input)
+            .arg(output),
+    )
 }
 
 /// An icosphere of radius 100 mm with the faces around two vertices removed: one small
@@ -101,16 +94,11 @@ fn remesh_fills_the_small_hole_and_reports_quality() {
 
     // Decimation first, then remesh; text output names the holes.
     let out2 = dir.path().join("out2.obj");
-    let out = flatcut()
-        .args(["remesh", "--decimate-to", "1000", "--edge-mm", "12"])
-        .arg(&input)
-        .arg(&out2)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = succeed(
+        flatcut()
+            .args(["remesh", "--decimate-to", "1000", "--edge-mm", "12"])
+            .arg(&input)
+            .arg(&out2),
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("decimated to"), "{text}");

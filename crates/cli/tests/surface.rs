@@ -3,15 +3,15 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
+use common::flatcut;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use flatcut_io::{Units, read_mesh};
 use flatcut_mesh::{Topology, geometry::corner_angles, vec3::dist};
-
-fn flatcut() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flatcut"))
-}
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

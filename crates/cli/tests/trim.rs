@@ -3,13 +3,11 @@
 
 #![allow(clippy::unwrap_used)]
 
-use std::process::Command;
+mod common;
+
+use common::{flatcut, succeed_json};
 
 use flatcut_mesh::{SeamLedger, geometry, shapes};
-
-fn flatcut() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flatcut"))
-}
 
 // Sphere of radius 10 cm: an equator loop and a line over the north pole ending on it.
 const CUTS: &str = r#"units = "cm"
@@ -59,22 +57,16 @@ fn trim_writes_pieces_in_mm_and_the_seam_ledger() {
     let cuts = dir.path().join("cuts.toml");
     std::fs::write(&cuts, CUTS).unwrap();
     let out_dir = dir.path().join("out");
-    let out = flatcut()
-        .arg("trim")
-        .arg(&input)
-        .arg("--cuts")
-        .arg(&cuts)
-        .arg("--out")
-        .arg(&out_dir)
-        .arg("--json")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let summary = succeed_json(
+        flatcut()
+            .arg("trim")
+            .arg(&input)
+            .arg("--cuts")
+            .arg(&cuts)
+            .arg("--out")
+            .arg(&out_dir)
+            .arg("--json"),
     );
-    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(summary["pieces"].as_array().unwrap().len(), 3);
     assert_eq!(summary["seams"].as_array().unwrap().len(), 3);
 
