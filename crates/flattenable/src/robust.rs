@@ -534,9 +534,17 @@ pub fn run_from(
             // evaluation and a fold check. The damping then doubles (as after a step with
             // ρ < 1/4): ×4 as after a plain rejection stalled the 100k-face cap at 1.4e-6,
             // ×2 converged it in 111 iterations instead of 283.
+            // Near θ = 2π a rejected step is the near-flat modes answering at second order
+            // (the rest of the step is right), so it is followed much further down
+            // (`DEEP_BACKTRACKS`) before the damping is raised.
+            let tries = if err <= DEEP_BACKTRACK_AT_RAD {
+                DEEP_BACKTRACKS
+            } else {
+                BACKTRACKS
+            };
             if ls.is_none()
                 && let Some((short, short_theta)) =
-                    backtrack(piece, layout, &pos, &interior, &d, &b, &ad, f, n)
+                    backtrack(piece, layout, &pos, &interior, &d, &b, &ad, f, n, tries)
             {
                 report.backtracked_steps += 1;
                 mu *= 2.0;
@@ -656,8 +664,22 @@ fn lift_flat_excess(
     (moved > 0 && piece.folded_faces(&out) == 0).then_some(out)
 }
 
-/// Step fractions tried along a rejected direction before the damping is raised.
+/// Step fractions tried along a rejected direction before the damping is raised (1/2, 1/4,
+/// 1/8).
 const BACKTRACKS: usize = 3;
+/// Within `DEEP_BACKTRACK_AT_RAD` of θ = 2π, fractions down to 2⁻¹⁰ are tried. There a
+/// rejected step is a group of nearly flat vertices (rows of A near zero, nearly dependent)
+/// that the least-norm step moves far, answering at second order: on the 50k-face cap a step
+/// of 0.15 edge lengths took f = ‖θ − 2π‖² from 5.6e-11 to 2.4e-4, and 1/8 of it was still
+/// worse, so each such step cost 5–8 factorisations at rising damping before one was
+/// accepted. A θ evaluation is a tenth of a factorisation. Measured (docs/algorithms/
+/// flattenable.md, "Deep backtracking near θ = 2π"): zero target 19.6k / 50k / 100k faces
+/// 54 / 122 / 105 → 37 / 72 / 66 factorisations; 1k–10k unchanged.
+const DEEP_BACKTRACKS: usize = 10;
+/// θ_err below which backtracking goes deep (radians). Not earlier: in the 100×100 saddle's
+/// long phase at ~1e-4 deeper backtracking changed which paths reach the final quadratic
+/// phase (two of the seven one-ulp inputs stalled).
+const DEEP_BACKTRACK_AT_RAD: f64 = 1e-6;
 
 /// The longest step any interior vertex may take in one iteration, in its mean input edge
 /// lengths. The linearisation of θ is good for about one edge length; at small damping the
@@ -670,8 +692,8 @@ const BACKTRACKS: usize = 3;
 /// (docs/algorithms/flattenable.md, "Step length cap").
 const STEP_CAP_EDGES: f64 = 2.0;
 
-/// The first of α = 1/2, 1/4, … (`BACKTRACKS` tries) for which `pos + α d` has no folded
-/// face and a real decrease of the merit against the linear model's prediction (ρ above
+/// The first of α = 1/2, 1/4, … (`tries` of them) for which `pos + α d` has no folded face
+/// and a real decrease of the merit against the linear model's prediction (ρ above
 /// `RHO_ACCEPT`, as for full steps); the new positions and their θ.
 #[allow(clippy::too_many_arguments)]
 fn backtrack(
@@ -684,10 +706,11 @@ fn backtrack(
     ad: &[f64],
     f: f64,
     n: usize,
+    tries: usize,
 ) -> Option<(Vec<[f64; 3]>, Vec<f64>)> {
     let mut alpha = 0.5;
     let mut theta = vec![0.0; n];
-    for _ in 0..BACKTRACKS {
+    for _ in 0..tries {
         let next: Vec<[f64; 3]> = interior
             .iter()
             .zip(d)
