@@ -564,6 +564,78 @@ fn bodies() {
     }
 }
 
+/// `patches`: geodesic balls cut from the bodies of FLATCUT_DATA (env BODIES, comma-separated
+/// names; K centres each by farthest-point sampling; RADIUS as a fraction of the body's
+/// height, default 0.1, i.e. a disk ~1/5 of the body tall), each processed with the default
+/// options: one table row per patch.
+fn patches() {
+    let dir = std::env::var("FLATCUT_DATA").expect("set FLATCUT_DATA");
+    let bodies: Vec<String> = env_list(
+        "BODIES",
+        vec![
+            "smpl_man".to_string(),
+            "smpl_woman".into(),
+            "smpl_female_TApose".into(),
+            "mh_female_generic".into(),
+            "mh_male_generic".into(),
+            "mh_body".into(),
+        ],
+    );
+    let k: usize = env_or("K", 10);
+    let fraction: f64 = env_or("RADIUS", 0.1);
+    for body in bodies {
+        let path = std::path::Path::new(&dir).join(format!("{body}.obj"));
+        let mesh = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
+            .unwrap()
+            .mesh;
+        let (lo, hi) = mesh.positions.iter().fold(
+            ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+            |(mut lo, mut hi), p| {
+                for c in 0..3 {
+                    lo[c] = lo[c].min(p[c]);
+                    hi[c] = hi[c].max(p[c]);
+                }
+                (lo, hi)
+            },
+        );
+        let height = (0..3).map(|c| hi[c] - lo[c]).fold(0.0, f64::max);
+        for centre in common::spread_vertices(&mesh, k) {
+            let piece = common::geodesic_ball(&mesh, centre, fraction * height);
+            let t = std::time::Instant::now();
+            let (r, ok) = match process(&piece, &ProcessOptions::default()) {
+                Ok(r) => (r, "yes"),
+                Err(FlattenableError::NotConverged { partial, .. }) => (*partial, "no"),
+                Err(e) => {
+                    println!("| {body} v{centre} | {} | error: {e} |", piece.face_count());
+                    continue;
+                }
+            };
+            let p = &r.report.pieces[0];
+            let loops = flatcut_mesh::Topology::build(&piece)
+                .map(|t| t.boundary_loops().len())
+                .unwrap_or(0);
+            println!(
+                "| {body} v{centre} | {} | {loops} | {:+.3} | {ok} | {} | {:.2e} | {:.2e} | {:.1} | {:+.2} | {:.4} | {:.0} | {} | {} | {:.1} |",
+                p.faces,
+                p.input_total_defect_rad,
+                p.iterations,
+                p.theta_err[0],
+                p.final_theta_err,
+                p.min_angle_deg,
+                p.area_change_percent,
+                p.rms_displacement_mm / (fraction * height),
+                p.max_crease_deg,
+                p.creased_edges,
+                p.folded_faces,
+                t.elapsed().as_secs_f64(),
+            );
+            if std::env::var("MSG").is_ok() {
+                println!("    {} {:?}", p.stop_reason, p.messages);
+            }
+        }
+    }
+}
+
 /// Speed on the bench caps (the criterion bench's pieces): per size and target, iterations,
 /// rejected trials, factorisations, pull-backs, best of `REPS` (default 3) wall times, and
 /// that time over one numeric Cholesky of A Aᵀ at the input. SIZES=12,24,… to restrict.
@@ -897,6 +969,7 @@ fn main() {
         "table" => table(),
         "real" => real(),
         "bodies" => bodies(),
+        "patches" => patches(),
         "speed" => speed(),
         "saddles" => saddles(),
         "tail" => tail(),

@@ -192,3 +192,58 @@ fn igl_lion() {
 fn igl_inspired_mesh_converges() {
     check_with("igl_inspired_mesh.obj", 500, true);
 }
+
+/// Geodesic balls cut from two bodies of different makers and units (SMPL in metres,
+/// MakeHuman in decimetres): 16 centres each, spread by farthest-point sampling, radius 7 %
+/// of the body's height (a patch ~25 cm across on a 1.7 m body). Every patch ends converged or
+/// with the clean error (`check_mesh`); every one with one boundary loop and a total angle
+/// defect under 0.9 rad — nearly developable already — converges. Measured with `measure --
+/// patches` on six bodies (docs/algorithms/flattenable.md, "Patches cut from six bodies"):
+/// 57 of 57 such patches converge; smpl_woman and mh_male_generic 12 of 16 each (the
+/// rest: hands, feet, the crown of the head and limb junctions, cup- or tube-like, and two
+/// SMPL patches whose cut leaves a non-manifold vertex, skipped here).
+#[test]
+#[ignore = "32 real patches: run in release"]
+fn patches_cut_from_bodies() {
+    for (name, converged_at_least) in [("smpl_woman.obj", 12), ("mh_male_generic.obj", 12)] {
+        let Some(body) = body(name) else { return };
+        let height = (0..3)
+            .map(|c| {
+                let (lo, hi) = body
+                    .positions
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                        (lo.min(p[c]), hi.max(p[c]))
+                    });
+                hi - lo
+            })
+            .fold(0.0, f64::max);
+        let mut converged = 0;
+        for centre in common::spread_vertices(&body, 16) {
+            let piece = common::geodesic_ball(&body, centre, 0.07 * height);
+            let topo = Topology::build(&piece).unwrap();
+            if !topo.non_manifold_vertices().is_empty() {
+                // The cut's artefact (two fans meeting at a vertex), refused by process with
+                // a named error (tests/process.rs).
+                continue;
+            }
+            let label = format!("{name} v{centre}");
+            let r = check_mesh(&label, &piece, 500, false);
+            let p = &r.report.pieces[0];
+            if p.final_theta_err <= 1e-9 {
+                converged += 1;
+            } else {
+                assert!(
+                    topo.boundary_loops().len() > 1 || p.input_total_defect_rad.abs() >= 0.9,
+                    "{label}: a nearly developable disk did not converge ({:.2e}, defect {:+.3})",
+                    p.final_theta_err,
+                    p.input_total_defect_rad
+                );
+            }
+        }
+        assert!(
+            converged >= converged_at_least,
+            "{name}: {converged} converged"
+        );
+    }
+}

@@ -79,7 +79,12 @@ pub fn cut(mesh: &TriMesh, keep: impl Fn([f64; 3]) -> bool) -> TriMesh {
             keep(c)
         })
         .collect();
-    let (sub, _) = flatcut_mesh::submesh(mesh, &faces);
+    largest_part(mesh, &faces)
+}
+
+/// The largest face-connected part of the sub-mesh made of `faces`.
+pub fn largest_part(mesh: &TriMesh, faces: &[u32]) -> TriMesh {
+    let (sub, _) = flatcut_mesh::submesh(mesh, faces);
     let topo = flatcut_mesh::Topology::build(&sub).unwrap();
     let comp = topo.face_components();
     let mut count = vec![0usize; topo.component_count()];
@@ -91,6 +96,71 @@ pub fn cut(mesh: &TriMesh, keep: impl Fn([f64; 3]) -> bool) -> TriMesh {
         .filter(|&f| comp[f as usize] as usize == big)
         .collect();
     flatcut_mesh::submesh(&sub, &keep_faces).0
+}
+
+/// `k` patch centres spread over `mesh` by farthest-point sampling (Euclidean, from vertex
+/// 0; deterministic).
+pub fn spread_vertices(mesh: &TriMesh, k: usize) -> Vec<u32> {
+    let n = mesh.vertex_count();
+    let mut near = vec![f64::INFINITY; n];
+    let mut out = Vec::with_capacity(k);
+    let mut next = 0usize;
+    for _ in 0..k.min(n) {
+        out.push(next as u32);
+        let c = mesh.positions[next];
+        for (v, d) in near.iter_mut().enumerate() {
+            *d = d.min(flatcut_mesh::vec3::dist(c, mesh.positions[v]));
+        }
+        next = (0..n)
+            .max_by(|&a, &b| near[a].total_cmp(&near[b]))
+            .unwrap_or(0);
+    }
+    out
+}
+
+/// A geodesic ball cut from a body: the faces whose three vertices lie within `radius`
+/// of `centre` along the edges (Dijkstra), their largest connected part. Unlike a
+/// Euclidean ball it does not take in a neighbouring limb.
+pub fn geodesic_ball(mesh: &TriMesh, centre: u32, radius: f64) -> TriMesh {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let n = mesh.vertex_count();
+    let mut adj: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for f in &mesh.faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            adj[a as usize].push(b);
+            adj[b as usize].push(a);
+        }
+    }
+    let mut dist = vec![f64::INFINITY; n];
+    dist[centre as usize] = 0.0;
+    // Distances are non-negative, so their bits order like the values.
+    let mut heap = BinaryHeap::from([Reverse((0u64, centre))]);
+    while let Some(Reverse((bits, v))) = heap.pop() {
+        let d = f64::from_bits(bits);
+        if d > dist[v as usize] || d > radius {
+            continue;
+        }
+        for &w in &adj[v as usize] {
+            let dw = d + flatcut_mesh::vec3::dist(
+                mesh.positions[v as usize],
+                mesh.positions[w as usize],
+            );
+            if dw < dist[w as usize] {
+                dist[w as usize] = dw;
+                heap.push(Reverse((dw.to_bits(), w)));
+            }
+        }
+    }
+    let faces: Vec<u32> = (0..mesh.face_count() as u32)
+        .filter(|&f| {
+            mesh.faces[f as usize]
+                .iter()
+                .all(|&v| dist[v as usize] < radius)
+        })
+        .collect();
+    largest_part(mesh, &faces)
 }
 
 /// Pieces of the MakeHuman body (model units = dm; y up, +z front; MANIFEST landmarks):
