@@ -93,6 +93,9 @@ fn c2f_from_env() -> CoarseToFine {
     if let Some(v) = std::env::var("C2F_RATIO").ok().and_then(|s| s.parse().ok()) {
         c.ratio = v;
     }
+    if std::env::var("C2F_RESCUE").as_deref() == Ok("0") {
+        c.rescue = false;
+    }
     c
 }
 
@@ -717,6 +720,9 @@ fn speed() {
             }
             if let Some(m) = std::env::var("C2F_MAX").ok().and_then(|s| s.parse().ok()) {
                 opts.coarse_to_fine.max_faces = m;
+            }
+            if std::env::var("C2F_RESCUE").as_deref() == Ok("0") {
+                opts.coarse_to_fine.rescue = false;
             }
             match std::env::var("ONLY_TARGET").as_deref() {
                 Ok("zero") if target == Target::Detail => continue,

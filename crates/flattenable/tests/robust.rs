@@ -275,7 +275,13 @@ fn a_saddle_one_ulp_from_the_grid_converges_too() {
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
 fn a_step_capped_at_two_edge_lengths_unstalls_the_160_cap() {
-    let mesh = flatcut_mesh::shapes::grid_patch(160, 160, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+    bench_cap_with_the_zero_target(160);
+}
+
+/// The bench's n×n sphere cap (alternating diagonals) processed with the zero target,
+/// checked flat and unfolded.
+fn bench_cap_with_the_zero_target(n: usize) -> Processed {
+    let mesh = flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
     let r = robust(
         &mesh,
         &ProcessOptions {
@@ -284,6 +290,7 @@ fn a_step_capped_at_two_edge_lengths_unstalls_the_160_cap() {
         },
     );
     assert_flat_unfolded(&mesh, &r);
+    r
 }
 
 /// Near θ = 2π a rejected trial is followed down to 2⁻¹⁰ of its length before the damping is
@@ -294,15 +301,7 @@ fn a_step_capped_at_two_edge_lengths_unstalls_the_160_cap() {
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
 fn near_theta_2pi_a_rejected_step_costs_no_factorisation() {
-    let mesh = flatcut_mesh::shapes::grid_patch(100, 100, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
-    let r = robust(
-        &mesh,
-        &ProcessOptions {
-            target: Target::Zero,
-            ..Default::default()
-        },
-    );
-    assert_flat_unfolded(&mesh, &r);
+    let r = bench_cap_with_the_zero_target(100);
     let p = &r.report.pieces[0];
     assert!(p.backtracked_steps > 0, "{p:?}");
     assert_eq!(p.factorizations, p.iterations, "{p:?}");
