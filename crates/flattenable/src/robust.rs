@@ -421,19 +421,19 @@ pub fn run_from(
                 report.rejected_steps += 1;
                 continue;
             };
-            // No vertex moves farther than the linearisation reaches (`STEP_CAP_EDGES`).
+            // No vertex moves farther than the linearisation reaches (`STEP_CAP_EDGES`): a
+            // longer step is refused and the damping raised, which bounds it by damping the
+            // nearly singular directions that make it long (a shortened step keeps them).
             let longest = d
                 .iter()
                 .zip(&reach)
                 .map(|(v, l)| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt() / l)
                 .fold(0.0f64, f64::max);
-            let truncated = ls.is_none() && longest > STEP_CAP_EDGES;
-            let d = if truncated {
-                let a = STEP_CAP_EDGES / longest;
-                d.iter().map(|v| [a * v[0], a * v[1], a * v[2]]).collect()
-            } else {
-                d
-            };
+            if ls.is_none() && longest > STEP_CAP_EDGES {
+                mu *= 4.0;
+                report.rejected_steps += 1;
+                continue;
+            }
             let v_star: Vec<[f64; 3]> = interior
                 .iter()
                 .zip(&d)
@@ -517,9 +517,7 @@ pub fn run_from(
                 -1.0
             };
             if f_trial.is_finite() && f_trial < f && rho > RHO_ACCEPT {
-                if truncated {
-                    // The damping did not bound the step: do not lower it further.
-                } else if rho > 0.75 {
+                if rho > 0.75 {
                     mu = (mu / MU_DOWN).max(MU_MIN);
                 } else if rho < 0.25 {
                     mu *= 2.0;
@@ -686,9 +684,13 @@ const DEEP_BACKTRACK_AT_RAD: f64 = 1e-6;
 /// least-norm step can be several (4 edge lengths on the 160×160 cap), and such a step, even
 /// when the linear model rates it well (ρ = 0.84 there), can leave the surface where A Aᵀ is
 /// nearly singular in the direction of the residual, so that no small step reduces it (that
-/// cap then stalled at θ_err 1.7e-5). A longer step is shortened to this length along its
-/// direction, and the damping is not lowered after it. 2 edge lengths: 0.5 and 1 also
-/// unstalled that cap but cost more iterations on the 100×100 and 130×130 caps
+/// cap then stalled at θ_err 1.7e-5). A longer step is refused and the damping raised ×4.
+/// (Until 2026-11-26 it was shortened to this length along its direction instead: that keeps
+/// the nearly singular directions that made it long, and on the 175×175, 190×190 and 205×205
+/// caps a shortened step of 7.7 edge lengths, rated ρ = 2.7, left the surface where no step
+/// reduces f — stalled at 1.5e-5. Refused, all fourteen caps of 26k–100k faces converge;
+/// docs/algorithms/flattenable.md, "Long steps refused".) 2 edge lengths: 0.5 and 1 also
+/// unstalled the 160×160 cap but cost more iterations on the 100×100 and 130×130 caps
 /// (docs/algorithms/flattenable.md, "Step length cap").
 const STEP_CAP_EDGES: f64 = 2.0;
 

@@ -270,12 +270,16 @@ fn a_saddle_one_ulp_from_the_grid_converges_too() {
 
 /// The 160×160 cap of the bench's generator (alternating diagonals, 50k faces): at damping
 /// 1e-8 the least-norm step moved a vertex 4 edge lengths, the linear model rated it well,
-/// and the run then stalled at θ_err 1.7e-5 with both targets. With each vertex's step
-/// capped at two of its edge lengths it converges (release only: ~10 s).
+/// and the run then stalled at θ_err 1.7e-5 with both targets; a step capped at two of each
+/// vertex's edge lengths made it converge. On the 175×175 cap (60k faces) a step shortened
+/// to that length (7.7 edge lengths before, rated ρ = 2.7) stalled the run at 1.5e-5; a long
+/// step is now refused and the damping raised, and both converge (release only: ~12 s).
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
-fn a_step_capped_at_two_edge_lengths_unstalls_the_160_cap() {
-    bench_cap_with_the_zero_target(160);
+fn long_steps_refused_unstall_the_160_and_175_caps() {
+    for n in [160, 175] {
+        bench_cap_with_the_zero_target(n);
+    }
 }
 
 /// The bench's n×n sphere cap (alternating diagonals) processed with the zero target,
@@ -295,16 +299,16 @@ fn bench_cap_with_the_zero_target(n: usize) -> Processed {
 
 /// Near θ = 2π a rejected trial is followed down to 2⁻¹⁰ of its length before the damping is
 /// raised, which costs a factorisation: a step there fails because a group of nearly flat
-/// vertices answers at second order, while the rest of it is right. On the bench's 100×100
-/// cap (zero target) every factorisation then serves an accepted step: 37 for 37 iterations,
-/// where with at most 1/8 it took 54 for 47 (release only: ~1 s).
+/// vertices answers at second order, while the rest of it is right. On the bench's 130×130
+/// cap (33k faces, zero target) that takes 62 factorisations; with at most 1/8, as before,
+/// 95 (release only: ~3 s).
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
-fn near_theta_2pi_a_rejected_step_costs_no_factorisation() {
-    let r = bench_cap_with_the_zero_target(100);
+fn near_theta_2pi_rejected_steps_are_backtracked_deep_instead_of_refactorised() {
+    let r = bench_cap_with_the_zero_target(130);
     let p = &r.report.pieces[0];
     assert!(p.backtracked_steps > 0, "{p:?}");
-    assert_eq!(p.factorizations, p.iterations, "{p:?}");
+    assert!(p.factorizations < 80, "{} factorisations", p.factorizations);
 }
 
 #[test]
