@@ -671,8 +671,9 @@ const BACKTRACKS: usize = 3;
 /// of 0.15 edge lengths took f = ‖θ − 2π‖² from 5.6e-11 to 2.4e-4, and 1/8 of it was still
 /// worse, so each such step cost 5–8 factorisations at rising damping before one was
 /// accepted. A θ evaluation is a tenth of a factorisation. Measured (docs/algorithms/
-/// flattenable.md, "Deep backtracking near θ = 2π"): zero target 19.6k / 50k / 100k faces
-/// 54 / 122 / 105 → 37 / 72 / 66 factorisations; 1k–10k unchanged.
+/// flattenable.md, "Deep backtracking near θ = 2π" and "Long steps refused"): zero target,
+/// 130×130 cap 95 → 62 factorisations, eight caps of 7k–100k faces 910 → 543 (and the 225
+/// cap no longer stalls at 1.7e-9); 1k–10k unchanged.
 const DEEP_BACKTRACKS: usize = 10;
 /// θ_err below which backtracking goes deep (radians). Not earlier: in the 100×100 saddle's
 /// long phase at ~1e-4 deeper backtracking changed which paths reach the final quadratic
