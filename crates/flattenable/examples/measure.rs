@@ -46,6 +46,33 @@ fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
     );
 }
 
+/// `process`, with the best partial result when it does not converge: the result and "yes"
+/// or "no"; other errors as they are.
+fn process_or_partial(
+    mesh: &flatcut_mesh::TriMesh,
+    opts: &ProcessOptions,
+) -> Result<(Processed, &'static str), FlattenableError> {
+    match process(mesh, opts) {
+        Ok(r) => Ok((r, "yes")),
+        Err(FlattenableError::NotConverged { partial, .. }) => Ok((*partial, "no")),
+        Err(e) => Err(e),
+    }
+}
+
+/// The table cells every real-mesh table shares: total defect, converged, iterations, θ_err
+/// of the input and at the end, smallest corner, area change.
+fn outcome_cells(p: &PieceReport, ok: &str) -> String {
+    format!(
+        "{:+.3} | {ok} | {} | {:.2e} | {:.2e} | {:.1} | {:+.2}",
+        p.input_total_defect_rad,
+        p.iterations,
+        p.theta_err[0],
+        p.final_theta_err,
+        p.min_angle_deg,
+        p.area_change_percent
+    )
+}
+
 /// The environment variable `name` parsed, or `default` when unset or unparsable.
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
     std::env::var(name)
@@ -289,9 +316,8 @@ fn probe_targets() {
 fn table() {
     let row = |name: &str, mode: &str, m: &flatcut_mesh::TriMesh, opts: &ProcessOptions| {
         let t = std::time::Instant::now();
-        let (r, ok) = match process(m, opts) {
-            Ok(r) => (r, "yes"),
-            Err(FlattenableError::NotConverged { partial, .. }) => (*partial, "no"),
+        let (r, ok) = match process_or_partial(m, opts) {
+            Ok(r) => r,
             Err(e) => {
                 println!("| {name} | {mode} | error: {e} |");
                 return;
@@ -390,9 +416,8 @@ fn real() {
             ..Default::default()
         };
         let t = std::time::Instant::now();
-        let (r, ok) = match process(&mesh, &opts) {
-            Ok(r) => (r, "yes"),
-            Err(FlattenableError::NotConverged { partial, .. }) => (*partial, "no"),
+        let (r, ok) = match process_or_partial(&mesh, &opts) {
+            Ok(r) => r,
             Err(e) => {
                 println!("| {name} | error: {e} |");
                 continue;
@@ -400,15 +425,10 @@ fn real() {
         };
         let p = &r.report.pieces[0];
         println!(
-            "| {name} | {} | {} | {:+.3} | {ok} | {} | {:.2e} | {:.2e} | {:.1} | {:+.2} | {:.4} | {} | {:.1} | {} |",
+            "| {name} | {} | {} | {} | {:.4} | {} | {:.1} | {} |",
             p.faces,
             p.interior_vertices,
-            p.input_total_defect_rad,
-            p.iterations,
-            p.theta_err[0],
-            p.final_theta_err,
-            p.min_angle_deg,
-            p.area_change_percent,
+            outcome_cells(p, ok),
             p.max_displacement_mm,
             p.folded_faces,
             t.elapsed().as_secs_f64(),
@@ -530,9 +550,8 @@ fn bodies() {
             ..Default::default()
         };
         let t = std::time::Instant::now();
-        let (r, ok) = match process(&piece, &opts) {
-            Ok(r) => (r, "yes"),
-            Err(FlattenableError::NotConverged { partial, .. }) => (*partial, "no"),
+        let (r, ok) = match process_or_partial(&piece, &opts) {
+            Ok(r) => r,
             Err(e) => {
                 println!("| {body} {name} | error: {e} |");
                 continue;
@@ -540,15 +559,10 @@ fn bodies() {
         };
         let p = &r.report.pieces[0];
         println!(
-            "| {body} {name} | {} | {} | {loops} | {:+.3} | {ok} | {} | {:.2e} | {:.2e} | {:.1} | {:+.2} | {:.4} | {:.4} | {} | {:.1} |",
+            "| {body} {name} | {} | {} | {loops} | {} | {:.4} | {:.4} | {} | {:.1} |",
             p.faces,
             p.interior_vertices,
-            p.input_total_defect_rad,
-            p.iterations,
-            p.theta_err[0],
-            p.final_theta_err,
-            p.min_angle_deg,
-            p.area_change_percent,
+            outcome_cells(p, ok),
             p.rms_displacement_mm,
             p.max_displacement_mm,
             p.folded_faces,
@@ -605,9 +619,8 @@ fn patches() {
         for centre in common::spread_vertices(&mesh, k) {
             let piece = common::geodesic_ball(&mesh, centre, fraction * height);
             let t = std::time::Instant::now();
-            let (r, ok) = match process(&piece, &ProcessOptions::default()) {
-                Ok(r) => (r, "yes"),
-                Err(FlattenableError::NotConverged { partial, .. }) => (*partial, "no"),
+            let (r, ok) = match process_or_partial(&piece, &ProcessOptions::default()) {
+                Ok(r) => r,
                 Err(e) => {
                     println!("| {body} v{centre} | {} | error: {e} |", piece.face_count());
                     continue;
@@ -618,14 +631,9 @@ fn patches() {
                 .map(|t| t.boundary_loops().len())
                 .unwrap_or(0);
             println!(
-                "| {body} v{centre} | {} | {loops} | {:+.3} | {ok} | {} | {:.2e} | {:.2e} | {:.1} | {:+.2} | {:.4} | {:.0} | {} | {} | {:.1} |",
+                "| {body} v{centre} | {} | {loops} | {} | {:.4} | {:.0} | {} | {} | {:.1} |",
                 p.faces,
-                p.input_total_defect_rad,
-                p.iterations,
-                p.theta_err[0],
-                p.final_theta_err,
-                p.min_angle_deg,
-                p.area_change_percent,
+                outcome_cells(p, ok),
                 p.rms_displacement_mm / (fraction * height),
                 p.max_crease_deg,
                 p.creased_edges,
