@@ -689,7 +689,7 @@ const DEEP_BACKTRACK_AT_RAD: f64 = 1e-6;
 /// (Until 2026-11-26 it was shortened to this length along its direction instead: that keeps
 /// the nearly singular directions that made it long, and on the 175×175, 190×190 and 205×205
 /// caps a shortened step of 7.7 edge lengths, rated ρ = 2.7, left the surface where no step
-/// reduces f — stalled at 1.5e-5. Refused, all fourteen caps of 26k–100k faces converge;
+/// reduces f — stalled at 1.5e-5. Refused, all fourteen caps of 7k–100k faces converge;
 /// docs/algorithms/flattenable.md, "Long steps refused".) 2 edge lengths: 0.5 and 1 also
 /// unstalled the 160×160 cap but cost more iterations on the 100×100 and 130×130 caps
 /// (docs/algorithms/flattenable.md, "Step length cap").
