@@ -605,17 +605,7 @@ fn patches() {
         let mesh = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
             .unwrap()
             .mesh;
-        let (lo, hi) = mesh.positions.iter().fold(
-            ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-            |(mut lo, mut hi), p| {
-                for c in 0..3 {
-                    lo[c] = lo[c].min(p[c]);
-                    hi[c] = hi[c].max(p[c]);
-                }
-                (lo, hi)
-            },
-        );
-        let height = (0..3).map(|c| hi[c] - lo[c]).fold(0.0, f64::max);
+        let height = common::largest_side(&mesh);
         for centre in common::spread_vertices(&mesh, k) {
             let piece = common::geodesic_ball(&mesh, centre, fraction * height);
             let t = std::time::Instant::now();

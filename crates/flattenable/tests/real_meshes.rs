@@ -207,17 +207,7 @@ fn igl_inspired_mesh_converges() {
 fn patches_cut_from_bodies() {
     for (name, converged_at_least) in [("smpl_woman.obj", 12), ("mh_male_generic.obj", 12)] {
         let Some(body) = body(name) else { return };
-        let height = (0..3)
-            .map(|c| {
-                let (lo, hi) = body
-                    .positions
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                        (lo.min(p[c]), hi.max(p[c]))
-                    });
-                hi - lo
-            })
-            .fold(0.0, f64::max);
+        let height = common::largest_side(&body);
         let mut converged = 0;
         for centre in common::spread_vertices(&body, 16) {
             let piece = common::geodesic_ball(&body, centre, 0.07 * height);

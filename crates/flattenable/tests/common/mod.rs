@@ -98,6 +98,14 @@ pub fn largest_part(mesh: &TriMesh, faces: &[u32]) -> TriMesh {
     flatcut_mesh::submesh(&sub, &keep_faces).0
 }
 
+/// The longest side of `mesh`'s bounding box (0 without faces): a body's height, or its arm
+/// span in a T-pose.
+pub fn largest_side(mesh: &TriMesh) -> f64 {
+    mesh.bounding_box().map_or(0.0, |(lo, hi)| {
+        (0..3).map(|c| hi[c] - lo[c]).fold(0.0, f64::max)
+    })
+}
+
 /// `k` patch centres spread over `mesh` by farthest-point sampling (Euclidean, from vertex
 /// 0; deterministic).
 pub fn spread_vertices(mesh: &TriMesh, k: usize) -> Vec<u32> {
