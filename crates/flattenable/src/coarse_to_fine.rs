@@ -12,6 +12,8 @@
 //! prolongation leaves inside each coarse face.
 
 use flatcut_mesh::vec3::{add, sub};
+use std::collections::VecDeque;
+
 use flatcut_mesh::{Topology, TriMesh};
 
 use crate::coarsen::{Coarsened, coarsen};
@@ -27,6 +29,17 @@ const COARSE_TOLERANCE_RAD: f64 = 1e-6;
 /// A coarsening that removes less than this fraction of the faces ends the hierarchy
 /// (nothing left to collapse cheaply: the coarse level would cost as much as the fine one).
 const MIN_REDUCTION: f64 = 0.2;
+/// Iterations the fine level gets from a prolongated start to reach the tolerance; then the
+/// direct solve runs instead. Measured on sphere caps of 1.9k–14.5k faces (docs/algorithms/
+/// flattenable.md, "Fine-level budget"): a fine level that converges does so in 11–42
+/// iterations, while one that starts to crawl (θ_err ≈ 2e-7, gains of 0.1–1 % per step)
+/// ran 265–500 iterations before converging or stalling, where the direct solve needs 20–40.
+const FINE_LEVEL_BUDGET: usize = 60;
+/// A fine level out of budget whose best θ_err is at most this (radians) was crawling near
+/// θ = 2π (measured: 2e-7–1.5e-6 on the caps), and the direct solve is tried next; one that
+/// ended farther (the body's saddle-like shoulder: 5.8e-3) goes on to the deeper rescue
+/// hierarchies first.
+const CRAWL_AT_RAD: f64 = 1e-4;
 /// Halvings of the prolongated displacement tried when the prolongated start folds a face
 /// against the input; after them the level starts from its input.
 const START_HALVINGS: usize = 8;
@@ -63,9 +76,11 @@ const RESCUE_PROLONGATIONS: [Prolongation; 2] =
 /// The attempts, each only while nothing has converged: for a piece of at least `min_faces`
 /// the configured hierarchy, else the direct solve; then, with `rescue`, the two rescue
 /// hierarchies (deeper; displacement, then positions prolongation); last the direct solve if
-/// it has not run. The best result by ‖θ − 2π‖² is kept, so the outcome is never worse than the
-/// direct solve's (the time is); the kept run's report carries the others' messages, rejected
-/// steps and factorisations.
+/// it has not run. A fine level gets [`FINE_LEVEL_BUDGET`] iterations to reach the tolerance;
+/// one cut off near θ = 2π ([`CRAWL_AT_RAD`]) moves the direct solve to the front of the
+/// remaining attempts. The best result by ‖θ − 2π‖² is kept, so the outcome is never worse
+/// than the direct solve's; the kept run's report carries the others' messages, rejected
+/// steps and factorisations (every attempt's).
 pub fn run(
     piece: &Piece,
     local: &TriMesh,
@@ -105,14 +120,18 @@ pub fn run(
         piece.layout.theta(p, &piece.faces, &mut t);
         Piece::errors(&t).1
     };
-    for (k, attempt) in attempts.iter().enumerate() {
+    let mut pending: VecDeque<Option<CoarseToFine>> = attempts.into();
+    let mut tried = 0usize;
+    while let Some(attempt) = pending.pop_front() {
+        let k = tried;
+        tried += 1;
         let mut rep = fresh(report);
         let what = if k == 0 {
             "coarse-to-fine"
         } else {
             "rescue coarse-to-fine"
         };
-        let out = match attempt {
+        let out = match &attempt {
             None => {
                 if k > 0 {
                     notes.push("solved again from the input".into());
@@ -133,10 +152,30 @@ pub fn run(
                     factorizations += rep.factorizations;
                     continue;
                 }
-                Pass::Fine(out) => out,
+                Pass::Fine(out) => {
+                    // A fine level that got near θ = 2π and crawled there until its budget
+                    // ran out: that is its prolongated start's end phase, not the piece's
+                    // shape, so the direct solve comes next, before any deeper hierarchy
+                    // (one that ends far away, like the saddle-like shoulder's, goes on down
+                    // the hierarchies, which is what converges it).
+                    let best_err = rep.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e));
+                    if !rep.converged
+                        && best_err <= CRAWL_AT_RAD
+                        && let Some(i) = pending.iter().position(Option::is_none)
+                        && let Some(direct) = pending.remove(i)
+                    {
+                        pending.push_front(direct);
+                    }
+                    out
+                }
             },
         };
         if rep.converged {
+            // The work of every earlier attempt counts, the best unconverged one's too.
+            if let Some((_, _, old)) = best.take() {
+                rejected += old.rejected_steps;
+                factorizations += old.factorizations;
+            }
             notes.append(&mut rep.messages);
             rep.messages = notes;
             rep.rejected_steps += rejected;
@@ -272,7 +311,7 @@ fn pass(
                 None => lp.pos0.clone(),
                 Some(coarser) => start_from(&lp, &levels[k], coarser, c2f.prolongation),
             };
-            robust::run_from(&lp, &start, &coarse_opts, &mut rep).positions
+            robust::run_from(&lp, &start, &coarse_opts, None, &mut rep).positions
         };
         report.rejected_steps += rep.rejected_steps;
         report.factorizations += rep.factorizations;
@@ -301,7 +340,7 @@ fn pass(
     report.theta_err.push(Piece::errors(&theta0).0);
     let coarse_rejected = report.rejected_steps;
     report.rejected_steps = 0;
-    let out = robust::run_from(piece, &start, opts, report).positions;
+    let out = robust::run_from(piece, &start, opts, Some(FINE_LEVEL_BUDGET), report).positions;
     report.iterations += 1;
     report.messages.insert(
         0,

@@ -96,7 +96,9 @@ pub struct CoarseToFine {
     /// to make the saddle-like shoulder of mh_body_subdiv2 converge (30 fine iterations where
     /// the default hierarchy and the direct solve stall at 4–8e-3) and 14 instead of 11 of the
     /// 16 pieces of the noisy scan's wetsuit at 10 mm (docs/algorithms/flattenable.md).
-    /// Pieces that converge on the first attempt are unaffected.
+    /// Pieces that converge on the first attempt are unaffected. (Independently of this
+    /// flag, a fine level that crawls near θ = 2π is cut after 60 iterations and the direct
+    /// solve runs next: docs/algorithms/flattenable.md, "Fine-level budget".)
     pub rescue: bool,
 }
 

@@ -124,16 +124,19 @@ pub struct RobustOutcome {
 
 /// Runs robust mode on one piece; fills `report` (converged or not).
 pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> RobustOutcome {
-    run_from(piece, &piece.pos0, opts, report)
+    run_from(piece, &piece.pos0, opts, None, report)
 }
 
 /// [`run`] started from `start` (same boundary as the input) instead of the input; the
 /// fold guard, the pull-backs and every displacement still refer to the input `piece.pos0`
-/// (coarse-to-fine starts the fine level from a prolongated solution).
+/// (coarse-to-fine starts the fine level from a prolongated solution). With `budget`, the
+/// run gives up after that many iterations unless it has reached the tolerance by then
+/// (coarse-to-fine then tries the direct solve instead of crawling on).
 pub fn run_from(
     piece: &Piece,
     start: &[[f64; 3]],
     opts: &ProcessOptions,
+    budget: Option<usize>,
     report: &mut PieceReport,
 ) -> RobustOutcome {
     let layout = &piece.layout;
@@ -205,8 +208,12 @@ pub fn run_from(
     let limit = opts.iteration_limit();
     let mut last_lift = 0usize;
     let mut lifts = 0usize;
+    // Whether θ_err has been within the tolerance or a pull-back taken (the detail target's
+    // pull-backs start at 1e-7 and go on past the tolerance: the budget must not cut them).
+    let mut reached = false;
     report.stop_reason = "iteration limit".into();
     loop {
+        reached |= err <= opts.tolerance_rad || report.pull_backs > 0;
         // A pull-back under way: `None` while its restoring steps go on, then `Some(None)`
         // to keep it or `Some(Some(reason))` to undo it.
         let decided = restoring.as_ref().and_then(|(at, before)| {
@@ -369,6 +376,13 @@ pub fn run_from(
             break;
         }
         if report.iterations >= limit {
+            break;
+        }
+        if let Some(budget) = budget
+            && !reached
+            && report.iterations >= budget
+        {
+            report.stop_reason = format!("not converged within its budget of {budget} iterations");
             break;
         }
         if report.iterations >= best_at + STALL_WINDOW {

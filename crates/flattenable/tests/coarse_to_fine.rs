@@ -215,3 +215,48 @@ fn the_rescue_leaves_first_pass_successes_alone() {
         assert_eq!(p.iterations, off.report.pieces[0].iterations);
     }
 }
+
+/// A fine level that crawls near θ = 2π from its prolongated start gives way to the direct
+/// solve after its budget, before any rescue hierarchy. The bench's 62×62 cap (7.4k faces,
+/// default options) is one: its fine level reaches θ_err 2.1e-7 and then gains < 1 % per
+/// step; it used to run until the stall test, then both rescue hierarchies, then the direct
+/// solve (971 factorisations, 6.2 s); now the budget, then the direct solve (102, 0.5 s).
+#[test]
+fn a_crawling_fine_level_gives_way_to_the_direct_solve() {
+    let cap = flatcut_mesh::shapes::grid_patch(62, 62, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+    let r = process(&cap, &ProcessOptions::default()).unwrap();
+    let rep = &r.report;
+    assert!(rep.converged && rep.final_theta_err <= 1e-9, "{rep:?}");
+    assert_eq!(rep.folded_faces, 0);
+    assert_eq!(common::boundary_changed(&cap, &r.mesh), 0);
+    let p = &rep.pieces[0];
+    let [first, second, ..] = p.messages.as_slice() else {
+        panic!("{:?}", p.messages)
+    };
+    // "coarse-to-fine did not converge (best θ_err 2.1e-7 in 61 iterations)": the budget
+    // (60 iterations and the start) cut it near θ = 2π.
+    assert!(
+        first.starts_with("coarse-to-fine did not converge"),
+        "{first}"
+    );
+    let best: f64 = first
+        .split("best θ_err ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap();
+    assert!(best < 1e-4 && best > 1e-9, "{first}");
+    assert!(first.ends_with("in 61 iterations)"), "{first}");
+    assert_eq!(second, "solved again from the input");
+    assert!(
+        p.messages.iter().all(|m| !m.contains("rescue")),
+        "{:?}",
+        p.messages
+    );
+    // Every attempt's factorisations are counted: the hierarchy's and the direct solve's.
+    assert!(
+        (60..200).contains(&p.factorizations),
+        "{} factorisations",
+        p.factorizations
+    );
+}
