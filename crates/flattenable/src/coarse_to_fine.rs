@@ -112,6 +112,8 @@ pub fn run(
         attempts.push(None);
     }
     let mut notes: Vec<String> = Vec::new();
+    // Hierarchies abandoned at their coarsest level: (level face counts, summary).
+    let mut dead: Vec<(Vec<usize>, String)> = Vec::new();
     // The best unconverged attempt so far: its merit, positions and report.
     let mut best: Option<(f64, Vec<[f64; 3]>, PieceReport)> = None;
     let (mut rejected, mut factorizations) = (0usize, 0usize);
@@ -138,7 +140,7 @@ pub fn run(
                 }
                 robust::run(piece, opts, &mut rep).positions
             }
-            Some(h) => match pass(piece, local, w_local, opts, h, what, &mut rep)? {
+            Some(h) => match pass(piece, local, w_local, opts, h, what, &mut dead, &mut rep)? {
                 Pass::NoLevels if k == 0 => {
                     return Ok(robust::run(piece, opts, report).positions);
                 }
@@ -255,6 +257,7 @@ fn pass(
     opts: &ProcessOptions,
     c2f: &CoarseToFine,
     label: &str,
+    dead: &mut Vec<(Vec<usize>, String)>,
     report: &mut PieceReport,
 ) -> Result<Pass, FlattenableError> {
     // levels[k] maps level k (k = 0 the piece) to level k + 1.
@@ -283,6 +286,15 @@ fn pass(
         tolerance_rad: opts.tolerance_rad.max(COARSE_TOLERANCE_RAD),
         ..opts.clone()
     };
+    // The coarsest level is solved from its own input, so a hierarchy whose levels are those
+    // of one already abandoned there (same face counts: the coarsening is deterministic, and
+    // the prolongation does not enter) would repeat that solve and its failure.
+    let key: Vec<usize> = levels.iter().map(|l| l.mesh.face_count()).collect();
+    if let Some((_, summary)) = dead.iter().find(|(k, _)| *k == key) {
+        return Ok(Pass::Abandoned(format!(
+            "{summary}; the same levels as an earlier attempt, not solved again"
+        )));
+    }
     // Solve from the coarsest level up to level 1.
     let mut solution: Option<Vec<[f64; 3]>> = None;
     let mut summary = Vec::new();
@@ -329,6 +341,9 @@ fn pass(
             // near the fine solution (measured: the 100×100 saddle's coarse level stalls at
             // 1e-3 and the fine level from its prolongation stalls at 2e-4, while the fine
             // level from its input converges).
+            if k == levels.len() {
+                dead.push((key, summary.join("; ")));
+            }
             return Ok(Pass::Abandoned(summary.join("; ")));
         }
         solution = Some(pos);

@@ -260,3 +260,47 @@ fn a_crawling_fine_level_gives_way_to_the_direct_solve() {
         p.factorizations
     );
 }
+
+/// A hierarchy abandoned at its coarsest level is not solved again by a later attempt with
+/// the same levels (the coarsest level starts from its own input, so only the prolongation
+/// would differ, and it does not enter there). A 120° cap (a cup: total defect 9.1 rad, it
+/// cannot become flat with its boundary fixed) fails the direct solve and both rescue
+/// hierarchies, which have the same levels: the second says so instead of repeating the
+/// first's 65 iterations and 356 rejected trials, and the result is the direct solve's.
+#[test]
+fn an_abandoned_hierarchy_is_not_solved_twice() {
+    let cup = flatcut_mesh::shapes::sphere_cap(100.0, 120f64.to_radians(), 16);
+    let run = |rescue: bool| {
+        let opts = ProcessOptions {
+            max_iterations: Some(120),
+            coarse_to_fine: CoarseToFine {
+                rescue,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        match process(&cup, &opts) {
+            Err(flatcut_flattenable::FlattenableError::NotConverged { partial, .. }) => partial,
+            other => panic!("{other:?}"),
+        }
+    };
+    let (with, without) = (run(true), run(false));
+    let messages = &with.report.pieces[0].messages;
+    let abandoned: Vec<&String> = messages
+        .iter()
+        .filter(|m| m.starts_with("rescue coarse-to-fine abandoned"))
+        .collect();
+    let [first, second] = abandoned.as_slice() else {
+        panic!("{messages:?}")
+    };
+    assert!(!first.contains("not solved again"), "{first}");
+    assert!(
+        second.contains("the same levels as an earlier attempt, not solved again"),
+        "{second}"
+    );
+    // Both name the same coarsest level (the first's solve, reported once more).
+    let level = |m: &str| m.split(" iterations").next().unwrap().to_string();
+    assert_eq!(level(first), level(second));
+    // Neither hierarchy beat the direct solve, so the returned surface is its best state.
+    assert_eq!(with.mesh.positions, without.mesh.positions);
+}
