@@ -140,7 +140,7 @@ pub fn run(
                 }
                 robust::run(piece, opts, &mut rep).positions
             }
-            Some(h) => match pass(piece, local, w_local, opts, h, what, &mut dead, &mut rep)? {
+            Some(h) => match pass((piece, local, w_local), opts, h, what, &mut dead, &mut rep)? {
                 Pass::NoLevels if k == 0 => {
                     return Ok(robust::run(piece, opts, report).positions);
                 }
@@ -249,11 +249,11 @@ enum Pass {
 }
 
 /// One pass: the hierarchy `c2f` built, solved coarsest first, the fine level run from its
-/// prolongation into `report` (its message starts with `label`).
+/// prolongation into `report` (its message starts with `label`). `dead` holds the hierarchies
+/// abandoned at their coarsest level so far (level face counts, summary), which are not
+/// solved again.
 fn pass(
-    piece: &Piece,
-    local: &TriMesh,
-    w_local: &[f64],
+    (piece, local, w_local): (&Piece, &TriMesh, &[f64]),
     opts: &ProcessOptions,
     c2f: &CoarseToFine,
     label: &str,
