@@ -548,8 +548,10 @@ pub fn run_from(
             // ×2 converged it in 111 iterations instead of 283.
             // Near θ = 2π a rejected step is the near-flat modes answering at second order
             // (the rest of the step is right), so it is followed much further down
-            // (`DEEP_BACKTRACKS`) before the damping is raised.
-            let tries = if err <= DEEP_BACKTRACK_AT_RAD {
+            // (`DEEP_BACKTRACKS`) before the damping is raised; so is a blow-up a little
+            // farther from θ = 2π (`BLOWUP_RHO`).
+            let blow_up = rho < BLOWUP_RHO && err <= BLOWUP_BACKTRACK_AT_RAD;
+            let tries = if err <= DEEP_BACKTRACK_AT_RAD || blow_up {
                 DEEP_BACKTRACKS
             } else {
                 BACKTRACKS
@@ -693,6 +695,18 @@ const DEEP_BACKTRACKS: usize = 10;
 /// long phase at ~1e-4 deeper backtracking changed which paths reach the final quadratic
 /// phase (two of the seven one-ulp inputs stalled).
 const DEEP_BACKTRACK_AT_RAD: f64 = 1e-6;
+/// A trial that made f worse by this many times the decrease the linear model promised
+/// (ρ below it; a folded trial's ρ is −∞) is that near-flat blow-up too, and below
+/// `BLOWUP_BACKTRACK_AT_RAD` it is backtracked deep as well. The 100k-face cap's trace shows
+/// them from θ_err 2e-6 (ρ = −7e5 at 1.6e-6, nine factorisations for one step). Measured
+/// (docs/algorithms/flattenable.md, "Blow-ups backtracked deep"): caps of 14k–100k faces,
+/// zero target 855 → 771 factorisations (100k 107 → 88), detail 1 030 → 986; the saddle
+/// harness, the caps up to 10k, the body pieces, patches, pipelines and real meshes follow
+/// the same paths. Without the θ_err gate (any θ_err) two of the seven saddles stall.
+const BLOWUP_RHO: f64 = -1e3;
+/// θ_err below which a blow-up (`BLOWUP_RHO`) is backtracked deep (radians): above the
+/// saddle's long phase at ~1e-4.
+const BLOWUP_BACKTRACK_AT_RAD: f64 = 1e-5;
 
 /// The longest step any interior vertex may take in one iteration, in its mean input edge
 /// lengths. The linearisation of θ is good for about one edge length; at small damping the
