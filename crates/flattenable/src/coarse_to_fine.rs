@@ -11,9 +11,9 @@
 //! does at a fraction of the cost. The fine level then only has to remove the error
 //! prolongation leaves inside each coarse face.
 
-use flatcut_mesh::vec3::{add, sub};
 use std::collections::VecDeque;
 
+use flatcut_mesh::vec3::{add, sub};
 use flatcut_mesh::{Topology, TriMesh};
 
 use crate::coarsen::{Coarsened, coarsen};

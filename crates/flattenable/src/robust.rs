@@ -382,7 +382,8 @@ pub fn run_from(
             && !reached
             && report.iterations >= budget
         {
-            report.stop_reason = format!("not converged within its budget of {budget} iterations");
+            report.stop_reason =
+                format!("not converged within the {budget} iterations allowed from this start");
             break;
         }
         if report.iterations >= best_at + STALL_WINDOW {
