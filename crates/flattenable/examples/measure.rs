@@ -90,7 +90,7 @@ fn env_list<T: std::str::FromStr>(name: &str, default: Vec<T>) -> Vec<T> {
 
 /// Coarse-to-fine options from the environment: C2F=off|pos|disp (default: the library's),
 /// C2F_MIN (min_faces), C2F_MAX (max_faces; unlimited when C2F=pos|disp), C2F_LEVELS,
-/// C2F_RATIO.
+/// C2F_RATIO, C2F_RESCUE=0 (no rescue hierarchies).
 fn c2f_from_env() -> CoarseToFine {
     let mut c = CoarseToFine::default();
     match std::env::var("C2F").as_deref() {
@@ -705,23 +705,13 @@ fn speed() {
             eval * 1e3
         );
         for target in [Target::Detail, Target::Zero] {
+            // Experiment knobs: those of `c2f_from_env` (C2F_LEVELS=0 = direct solve, C2F_MAX,
+            // C2F_RESCUE=0, …), and PROLONG=positions.
             let mut opts = ProcessOptions {
                 target,
+                coarse_to_fine: c2f_from_env(),
                 ..Default::default()
             };
-            // Experiment knobs: C2F_LEVELS (0 = direct solve), PROLONG=positions.
-            if let Some(l) = std::env::var("C2F_LEVELS")
-                .ok()
-                .and_then(|s| s.parse().ok())
-            {
-                opts.coarse_to_fine.levels = l;
-            }
-            if let Some(m) = std::env::var("C2F_MAX").ok().and_then(|s| s.parse().ok()) {
-                opts.coarse_to_fine.max_faces = m;
-            }
-            if std::env::var("C2F_RESCUE").as_deref() == Ok("0") {
-                opts.coarse_to_fine.rescue = false;
-            }
             match std::env::var("ONLY_TARGET").as_deref() {
                 Ok("zero") if target == Target::Detail => continue,
                 Ok("detail") if target == Target::Zero => continue,
