@@ -133,10 +133,7 @@ fn probe() {
         ("cap", common::sphere_cap(n)),
         ("saddle", common::saddle(n)),
         // The bench's cap (alternating diagonals).
-        (
-            "bcap",
-            flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt()),
-        ),
+        ("bcap", common::bench_cap(n)),
     ];
     for (name, m) in &meshes {
         if which != "all" && which != *name {
@@ -662,7 +659,7 @@ fn speed() {
     let reps: usize = env_or("REPS", 3);
     let sizes: Vec<usize> = env_list("SIZES", vec![12, 24, 33, 43, 72]);
     for n in sizes {
-        let mesh = flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+        let mesh = common::bench_cap(n);
         let topo = flatcut_mesh::Topology::build(&mesh).unwrap();
         let layout = Layout::build(&topo, &mesh.faces).unwrap();
         let mut theta = vec![0.0; layout.n()];
@@ -871,7 +868,7 @@ fn tail() {
     use flatcut_flattenable::angle_gradient::angle_sum_gradient;
     let n: usize = env_or("N", 100);
     let it: usize = env_or("IT", 23);
-    let mesh = flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+    let mesh = common::bench_cap(n);
     let opts = ProcessOptions {
         target: Target::Zero,
         max_iterations: Some(it),

@@ -223,7 +223,7 @@ fn the_rescue_leaves_first_pass_successes_alone() {
 /// solve (971 factorisations, 6.2 s); now the budget, then the direct solve (102, 0.5 s).
 #[test]
 fn a_crawling_fine_level_gives_way_to_the_direct_solve() {
-    let cap = flatcut_mesh::shapes::grid_patch(62, 62, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+    let cap = common::bench_cap(62);
     let r = process(&cap, &ProcessOptions::default()).unwrap();
     let rep = &r.report;
     assert!(rep.converged && rep.final_theta_err <= 1e-9, "{rep:?}");

@@ -298,7 +298,7 @@ fn blow_ups_near_theta_2pi_are_backtracked_deep() {
 /// The bench's n×n sphere cap (alternating diagonals) processed with the zero target,
 /// checked flat and unfolded.
 fn bench_cap_with_the_zero_target(n: usize) -> Processed {
-    let mesh = flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+    let mesh = common::bench_cap(n);
     let r = robust(
         &mesh,
         &ProcessOptions {
@@ -357,7 +357,7 @@ fn detail_target_moves_less_than_the_zero_target() {
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
 fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
-    let mesh = flatcut_mesh::shapes::grid_patch(92, 92, 1.0, |x, y| (1.0 - x * x - y * y).sqrt());
+    let mesh = common::bench_cap(92);
     let run = |target| {
         robust(
             &mesh,

@@ -37,6 +37,12 @@ pub fn sphere_cap(n: usize) -> TriMesh {
     grid(n, 0.5, |x, y| (1.0 - x * x - y * y).sqrt())
 }
 
+/// The criterion bench's cap (benches/process.rs), the one the speed tables and the large-cap
+/// tests use: `grid_patch`'s n×n grid with alternating diagonals on the unit sphere.
+pub fn bench_cap(n: usize) -> TriMesh {
+    flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt())
+}
+
 /// The saddle z = 0.3(x² − y²) on [−1, 1]².
 pub fn saddle(n: usize) -> TriMesh {
     grid(n, 1.0, |x, y| 0.3 * (x * x - y * y))
