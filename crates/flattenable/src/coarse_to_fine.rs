@@ -160,9 +160,8 @@ pub fn run(
                     // shape, so the direct solve comes next, before any deeper hierarchy
                     // (one that ends far away, like the saddle-like shoulder's, goes on down
                     // the hierarchies, which is what converges it).
-                    let best_err = rep.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e));
                     if !rep.converged
-                        && best_err <= CRAWL_AT_RAD
+                        && best_reached(&rep, true) <= CRAWL_AT_RAD
                         && let Some(i) = pending.iter().position(Option::is_none)
                         && let Some(direct) = pending.remove(i)
                     {
@@ -188,12 +187,12 @@ pub fn run(
         notes.push(match attempt {
             None => format!(
                 "the direct solve did not converge (best θ_err {:.1e} in {} iterations)",
-                rep.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e)),
+                best_reached(&rep, false),
                 rep.iterations
             ),
             Some(_) => format!(
                 "{what} did not converge (best θ_err {:.1e} in {} iterations)",
-                rep.theta_err.iter().fold(f64::INFINITY, |m, &e| m.min(e)),
+                best_reached(&rep, true),
                 rep.iterations
             ),
         });
@@ -220,6 +219,16 @@ pub fn run(
     kept.factorizations += factorizations;
     *report = kept;
     Ok(out)
+}
+
+/// The lowest θ_err an attempt reached. For a hierarchy `theta_err[0]` is the piece's input,
+/// which its fine level starts away from (at the prolongated start, `theta_err[1]`) and does
+/// not return to, so it does not count.
+fn best_reached(rep: &PieceReport, hierarchy: bool) -> f64 {
+    rep.theta_err
+        .iter()
+        .skip(usize::from(hierarchy))
+        .fold(f64::INFINITY, |m, &e| m.min(e))
 }
 
 /// A report for a new attempt: the piece's fields kept, the run's fields reset.
