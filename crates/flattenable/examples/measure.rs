@@ -90,7 +90,7 @@ fn env_list<T: std::str::FromStr>(name: &str, default: Vec<T>) -> Vec<T> {
 
 /// Coarse-to-fine options from the environment: C2F=off|pos|disp (default: the library's),
 /// C2F_MIN (min_faces), C2F_MAX (max_faces; unlimited when C2F=pos|disp), C2F_LEVELS,
-/// C2F_RATIO, C2F_RESCUE=0 (no rescue hierarchies).
+/// C2F_RATIO, C2F_CTOL (coarse_tolerance_rad), C2F_RESCUE=0 (no rescue hierarchies).
 fn c2f_from_env() -> CoarseToFine {
     let mut c = CoarseToFine::default();
     match std::env::var("C2F").as_deref() {
@@ -116,6 +116,9 @@ fn c2f_from_env() -> CoarseToFine {
         .and_then(|s| s.parse().ok())
     {
         c.levels = v;
+    }
+    if let Some(v) = std::env::var("C2F_CTOL").ok().and_then(|s| s.parse().ok()) {
+        c.coarse_tolerance_rad = v;
     }
     if let Some(v) = std::env::var("C2F_RATIO").ok().and_then(|s| s.parse().ok()) {
         c.ratio = v;

@@ -22,10 +22,6 @@ use crate::piece::Piece;
 use crate::report::PieceReport;
 use crate::{FlattenableError, robust};
 
-/// Tolerance of the coarse levels (radians): the error prolongation leaves on the finer
-/// level (curvature inside each coarse face, ~1e-3–1e-2 rad) is far above it, so solving a
-/// coarse level further buys nothing on the fine one.
-const COARSE_TOLERANCE_RAD: f64 = 1e-6;
 /// A coarsening that removes less than this fraction of the faces ends the hierarchy
 /// (nothing left to collapse cheaply: the coarse level would cost as much as the fine one).
 const MIN_REDUCTION: f64 = 0.2;
@@ -148,7 +144,7 @@ pub fn run(
                 Pass::Abandoned(summary) => {
                     notes.push(format!(
                         "{what} abandoned ({summary}): a coarse level did not reach {:.0e} rad",
-                        opts.tolerance_rad.max(COARSE_TOLERANCE_RAD)
+                        opts.tolerance_rad.max(c2f.coarse_tolerance_rad)
                     ));
                     rejected += rep.rejected_steps;
                     factorizations += rep.factorizations;
@@ -251,7 +247,8 @@ fn fresh(report: &PieceReport) -> PieceReport {
 enum Pass {
     /// No coarser level could be made.
     NoLevels,
-    /// A coarse level did not reach [`COARSE_TOLERANCE_RAD`] (its levels' summary).
+    /// A coarse level did not reach [`CoarseToFine::coarse_tolerance_rad`] (its levels'
+    /// summary).
     Abandoned(String),
     /// The fine level ran from the prolongated start; the report says whether it converged.
     Fine(Vec<[f64; 3]>),
@@ -292,7 +289,7 @@ fn pass(
         return Ok(Pass::NoLevels);
     }
     let coarse_opts = ProcessOptions {
-        tolerance_rad: opts.tolerance_rad.max(COARSE_TOLERANCE_RAD),
+        tolerance_rad: opts.tolerance_rad.max(c2f.coarse_tolerance_rad),
         ..opts.clone()
     };
     // The coarsest level is solved from its own input, so a hierarchy whose levels are those

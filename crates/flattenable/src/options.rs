@@ -90,6 +90,16 @@ pub struct CoarseToFine {
     pub levels: usize,
     /// How a coarse solution is carried to the finer level. Default `Displacement`.
     pub prolongation: Prolongation,
+    /// θ_err (radians) at which a coarse level is solved enough; one that stops above it
+    /// abandons the hierarchy. Default 3e-4, below the error prolongation leaves on the finer
+    /// level (~1e-3–1e-2). Tighter is slower, not better: solved to 1e-6, a cap's coarse
+    /// level ends flat at its centre, the fine level inherits a small excess angle there and
+    /// crawls (19 caps of 1.9k–14.5k faces, both targets: 2 102 factorisations at 1e-6,
+    /// 1 268 at 3e-4, 1 179 solved directly); looser is a lottery (1e-3: 1 149 on the caps
+    /// but 48 instead of 20 iterations on igl_inspired_mesh; 3e-3 lost a saddle's
+    /// hierarchy). docs/algorithms/flattenable.md, "Coarse levels solved loosely". Never
+    /// below the piece's `tolerance_rad`.
+    pub coarse_tolerance_rad: f64,
     /// When a piece does not converge, try two deeper hierarchies (levels down to ~300
     /// faces; displacement, then positions prolongation) before giving up, also for pieces
     /// below `min_faces` (from 600 faces, after their direct solve). Default true: measured
@@ -110,6 +120,7 @@ impl Default for CoarseToFine {
             ratio: 4.0,
             levels: 3,
             prolongation: Prolongation::Displacement,
+            coarse_tolerance_rad: 3e-4,
             rescue: true,
         }
     }

@@ -135,6 +135,12 @@ fn check_options(mesh: &TriMesh, opts: &ProcessOptions) -> Result<(), Flattenabl
             format!("{} must be finite and > 1", c2f.ratio),
         );
     }
+    if c2f.levels > 0 && !(c2f.coarse_tolerance_rad.is_finite() && c2f.coarse_tolerance_rad > 0.0) {
+        return bad(
+            "coarse_to_fine.coarse_tolerance_rad",
+            format!("{} must be finite and > 0", c2f.coarse_tolerance_rad),
+        );
+    }
     if !(0.0..60.0).contains(&opts.min_angle_deg) {
         return bad(
             "min_angle_deg",
