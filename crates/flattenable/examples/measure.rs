@@ -661,6 +661,12 @@ fn speed() {
     use flatcut_flattenable::least_norm::{Layout, Metric};
     let reps: usize = env_or("REPS", 3);
     let sizes: Vec<usize> = env_list("SIZES", vec![12, 24, 33, 43, 72]);
+    // Totals per target over the sizes (factorisations, best CPU, unconverged runs): what the
+    // sweeps in docs/algorithms/flattenable.md compare.
+    let mut totals = [
+        (Target::Detail, 0usize, 0.0f64, 0usize),
+        (Target::Zero, 0, 0.0, 0),
+    ];
     for n in sizes {
         let mesh = common::bench_cap(n);
         let topo = flatcut_mesh::Topology::build(&mesh).unwrap();
@@ -739,6 +745,11 @@ fn speed() {
             }
             let (r, ok) = rep.unwrap();
             let p = &r.pieces[0];
+            for t in totals.iter_mut().filter(|t| t.0 == target) {
+                t.1 += p.factorizations;
+                t.2 += best_cpu;
+                t.3 += usize::from(ok != "conv");
+            }
             println!(
                 "{} faces {:?}: {ok} it={} rej={} fact={} pb={} err={:.1e} area={:+.3}% rmsd={:.4} turn={:.1}° crease={:.1}° creased={} | wall {:.1} ms, CPU {:.1} ms = {:.1} Cholesky ({:.3} ms); per factorisation {:.2}x; stop: {}",
                 p.faces,
@@ -768,6 +779,12 @@ fn speed() {
                 println!("    θ_err: {}", t.join(" "));
             }
         }
+    }
+    for (target, fact, cpu, unconverged) in totals {
+        println!(
+            "total {target:?}: {fact} factorisations, CPU {:.2} s, {unconverged} not converged",
+            cpu
+        );
     }
 }
 
