@@ -235,6 +235,16 @@ fn the_rescue_leaves_first_pass_successes_alone() {
     }
 }
 
+/// The number in `message` after the first `label`, up to `end`.
+fn number_after(message: &str, label: &str, end: char) -> f64 {
+    message
+        .split(label)
+        .nth(1)
+        .and_then(|s| s.split(end).next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no number after {label:?} in {message:?}"))
+}
+
 /// The bench's 62×62 cap (7.4k faces) with its coarse level solved to 1e-6 rad instead of the
 /// default 3e-4, so that its fine level crawls.
 fn the_62_cap_with_a_tight_coarse_level() -> ProcessOptions {
@@ -270,12 +280,7 @@ fn a_crawling_fine_level_gives_way_to_the_direct_solve() {
         first.starts_with("coarse-to-fine did not converge"),
         "{first}"
     );
-    let best: f64 = first
-        .split("best θ_err ")
-        .nth(1)
-        .and_then(|s| s.split(' ').next())
-        .and_then(|s| s.parse().ok())
-        .unwrap();
+    let best = number_after(first, "best θ_err ", ' ');
     assert!(best < 1e-4 && best > 1e-9, "{first}");
     assert!(first.ends_with("in 61 iterations)"), "{first}");
     assert_eq!(second, "solved again from the input");
@@ -311,12 +316,7 @@ fn a_loosely_solved_coarse_level_does_not_leave_the_fine_level_crawling() {
         panic!("{:?}", p.messages)
     };
     assert!(msg.starts_with("coarse-to-fine ("), "{msg}");
-    let coarse_err: f64 = msg
-        .split("θ_err ")
-        .nth(1)
-        .and_then(|s| s.split(';').next())
-        .and_then(|s| s.parse().ok())
-        .unwrap();
+    let coarse_err = number_after(msg, "θ_err ", ';');
     assert!(coarse_err > 1e-6 && coarse_err <= 3e-4, "{msg}");
     let tight = process(&cap, &the_62_cap_with_a_tight_coarse_level()).unwrap();
     let q = &tight.report.pieces[0];
