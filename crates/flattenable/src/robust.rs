@@ -550,8 +550,9 @@ pub fn run_from(
             // Near θ = 2π a rejected step is the near-flat modes answering at second order
             // (the rest of the step is right), so it is followed much further down
             // (`DEEP_BACKTRACKS`) before the damping is raised; so is a blow-up a little
-            // farther from θ = 2π (`BLOWUP_RHO`).
-            let blow_up = rho < BLOWUP_RHO && err <= BLOWUP_BACKTRACK_AT_RAD;
+            // farther from θ = 2π (`BLOWUP_RHO`), or while a pull-back is being restored.
+            let blow_up =
+                rho < BLOWUP_RHO && (err <= BLOWUP_BACKTRACK_AT_RAD || restoring.is_some());
             let tries = if err <= DEEP_BACKTRACK_AT_RAD || blow_up {
                 DEEP_BACKTRACKS
             } else {
@@ -706,7 +707,12 @@ const DEEP_BACKTRACK_AT_RAD: f64 = 1e-6;
 /// the same paths. Without the θ_err gate (any θ_err) two of the seven saddles stall.
 const BLOWUP_RHO: f64 = -1e3;
 /// θ_err below which a blow-up (`BLOWUP_RHO`) is backtracked deep (radians): above the
-/// saddle's long phase at ~1e-4.
+/// saddle's long phase at ~1e-4. While a pull-back is being restored a blow-up is backtracked
+/// deep at any θ_err (at most `PULL_BACK_MAX_ERR_RAD` there): the pull-back leaves the surface
+/// near θ = 2π with the tiny damping of the converged phase, and its first restoring step blew
+/// up (ρ ≈ −7e4 on the 3.5k cap) at nine dampings, ×4 each, before one was accepted. Measured
+/// (docs/algorithms/flattenable.md, "Blow-ups while restoring a pull-back"): 3.5k cap, detail
+/// target, 54 → 34 factorisations; 21 caps of 1.9k–14.5k faces 805 → 767, none worse.
 const BLOWUP_BACKTRACK_AT_RAD: f64 = 1e-5;
 
 /// The longest step any interior vertex may take in one iteration, in its mean input edge
