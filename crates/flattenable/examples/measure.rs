@@ -90,7 +90,8 @@ fn env_list<T: std::str::FromStr>(name: &str, default: Vec<T>) -> Vec<T> {
 
 /// Coarse-to-fine options from the environment: C2F=off|pos|disp (default: the library's),
 /// C2F_MIN (min_faces), C2F_MAX (max_faces; unlimited when C2F=pos|disp), C2F_LEVELS,
-/// C2F_RATIO, C2F_CTOL (coarse_tolerance_rad), C2F_RESCUE=0 (no rescue hierarchies).
+/// C2F_RATIO, C2F_CTOL (coarse_tolerance_rad), C2F_RESCUE=0 (no rescue hierarchies),
+/// PROLONG=positions (the prolongation alone, `max_faces` kept).
 fn c2f_from_env() -> CoarseToFine {
     let mut c = CoarseToFine::default();
     match std::env::var("C2F").as_deref() {
@@ -122,6 +123,9 @@ fn c2f_from_env() -> CoarseToFine {
     }
     if let Some(v) = std::env::var("C2F_RATIO").ok().and_then(|s| s.parse().ok()) {
         c.ratio = v;
+    }
+    if std::env::var("PROLONG").as_deref() == Ok("positions") {
+        c.prolongation = Prolongation::Positions;
     }
     if std::env::var("C2F_RESCUE").as_deref() == Ok("0") {
         c.rescue = false;
@@ -656,7 +660,7 @@ fn cpu_ns() -> u64 {
 /// `speed`: per grid size (env `SIZES`, comma-separated n of n×n caps; `REPS` runs each) the
 /// kernel timings and both targets' runs with their messages; `TRACE=1` adds θ_err per
 /// iteration, `C2F_LEVELS=0` solves without coarse-to-fine, `C2F_MAX` raises its largest
-/// piece, `PROLONG=positions` switches the prolongation, `ONLY_TARGET=zero|detail` runs one target.
+/// piece (all knobs of `c2f_from_env`), `ONLY_TARGET=zero|detail` runs one target.
 fn speed() {
     use flatcut_flattenable::least_norm::{Layout, Metric};
     let reps: usize = env_or("REPS", 3);
@@ -712,8 +716,8 @@ fn speed() {
         );
         for target in [Target::Detail, Target::Zero] {
             // Experiment knobs: those of `c2f_from_env` (C2F_LEVELS=0 = direct solve, C2F_MAX,
-            // C2F_RESCUE=0, …), and PROLONG=positions.
-            let mut opts = ProcessOptions {
+            // C2F_CTOL, C2F_RESCUE=0, PROLONG=positions, …).
+            let opts = ProcessOptions {
                 target,
                 coarse_to_fine: c2f_from_env(),
                 ..Default::default()
@@ -722,9 +726,6 @@ fn speed() {
                 Ok("zero") if target == Target::Detail => continue,
                 Ok("detail") if target == Target::Zero => continue,
                 _ => {}
-            }
-            if std::env::var("PROLONG").as_deref() == Ok("positions") {
-                opts.coarse_to_fine.prolongation = flatcut_flattenable::Prolongation::Positions;
             }
             let mut best = f64::INFINITY;
             let mut best_cpu = f64::INFINITY;
