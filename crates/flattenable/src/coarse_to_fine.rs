@@ -329,7 +329,7 @@ fn pass(
                 None => lp.pos0.clone(),
                 Some(coarser) => start_from(&lp, &levels[k], coarser, c2f.prolongation),
             };
-            robust::run_from(&lp, &start, &coarse_opts, None, &mut rep).positions
+            robust::run_coarse_level(&lp, &start, &coarse_opts, &mut rep).positions
         };
         report.rejected_steps += rep.rejected_steps;
         report.factorizations += rep.factorizations;

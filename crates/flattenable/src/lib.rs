@@ -19,6 +19,7 @@ pub mod coarsen;
 mod error;
 pub mod laplacian;
 pub mod least_norm;
+mod local_polish;
 mod options;
 mod paper;
 mod piece;

@@ -180,6 +180,12 @@ pub struct ProcessOptions {
     pub min_angle_deg: f64,
     /// Robust mode: coarse-to-fine for large pieces. Default on for pieces of 2 000 to 15 000 faces.
     pub coarse_to_fine: CoarseToFine,
+    /// Robust mode: once at most 5 % of a piece's interior vertices (pieces of at least
+    /// 1 000) are above `tolerance_rad`, solve them with a few rings around them alone, their
+    /// outer neighbours held, instead of factorising the whole piece for them. Default true:
+    /// measured on sphere caps of 19.6k–100k faces, 15 % less CPU in all (the 100k cap 13.0
+    /// → 10.0 s) for the same surface (docs/algorithms/flattenable.md, "Local polish").
+    pub local_polish: bool,
 }
 
 impl Default for ProcessOptions {
@@ -203,6 +209,7 @@ impl Default for ProcessOptions {
             tangential_penalty: 10.0,
             min_angle_deg: 0.5,
             coarse_to_fine: CoarseToFine::default(),
+            local_polish: true,
         }
     }
 }

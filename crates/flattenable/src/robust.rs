@@ -139,6 +139,48 @@ pub fn run_from(
     budget: Option<usize>,
     report: &mut PieceReport,
 ) -> RobustOutcome {
+    let polish = if opts.local_polish {
+        Polish::Local
+    } else {
+        Polish::Global
+    };
+    run_inner(piece, start, opts, budget, polish, report)
+}
+
+/// [`run_from`] for a coarse level of coarse-to-fine: no local polish (the level stops at
+/// its loose tolerance, far from the end phase the polish is for, and its result only
+/// starts the next level).
+pub fn run_coarse_level(
+    piece: &Piece,
+    start: &[[f64; 3]],
+    opts: &ProcessOptions,
+    report: &mut PieceReport,
+) -> RobustOutcome {
+    run_inner(piece, start, opts, None, Polish::Global, report)
+}
+
+/// How a run ends.
+#[derive(Clone, Copy)]
+enum Polish {
+    /// Global steps to the end.
+    Global,
+    /// Near the end, regions ([`crate::local_polish`]).
+    Local,
+    /// This is a region's run, started at the parent's damping (where the parent's steps
+    /// were good); it does not split again.
+    Region { mu: f64 },
+}
+
+/// [`run_from`], ending as `polish` says.
+fn run_inner(
+    piece: &Piece,
+    start: &[[f64; 3]],
+    opts: &ProcessOptions,
+    budget: Option<usize>,
+    polish: Polish,
+    report: &mut PieceReport,
+) -> RobustOutcome {
+    let local = matches!(polish, Polish::Local);
     let layout = &piece.layout;
     let n = layout.n();
     let mut pos = start.to_vec();
@@ -202,7 +244,10 @@ pub fn run_from(
     let mut restoring: Option<(usize, Snapshot)> = None;
     // Extra per-vertex stiffness (≥ 1) earned by vertices of faces that would fold.
     let mut stiff = vec![1.0f64; n];
-    let mut mu = MU_START;
+    let mut mu = match polish {
+        Polish::Region { mu } => mu,
+        _ => MU_START,
+    };
     // Per interior vertex: the mean length of its input edges, the scale of its steps.
     let reach = piece.interior_edge_lengths();
     let limit = opts.iteration_limit();
@@ -212,6 +257,10 @@ pub fn run_from(
     // pull-backs start at 1e-7 and go on past the tolerance: the budget must not cut them).
     let mut reached = false;
     report.stop_reason = "iteration limit".into();
+    // Local polish: the iteration before which no region is tried (after a region that did
+    // not finish), and what the regions did: (runs, their iterations, largest region).
+    let mut local_retry_at = 0usize;
+    let mut polished = (0usize, 0usize, 0usize);
     loop {
         reached |= err <= opts.tolerance_rad || report.pull_backs > 0;
         // A pull-back under way: `None` while its restoring steps go on, then `Some(None)`
@@ -390,6 +439,49 @@ pub fn run_from(
             report.stop_reason =
                 format!("stalled: no 10 % gain of ‖θ − 2π‖² in {STALL_WINDOW} iterations");
             break;
+        }
+        // Near the end only a few vertices are above the tolerance: solve their region alone
+        // (local_polish.rs) instead of factorising the whole piece for them.
+        if local
+            && ls.is_none()
+            && restoring.is_none()
+            && pull_backs == 0
+            && n >= LOCAL_MIN_INTERIOR
+            && report.iterations >= local_retry_at
+            && let Some(done) = polish_region(piece, &pos, &theta, mu, opts, report)
+        {
+            match done {
+                RegionRun::Gained {
+                    positions,
+                    theta: polished_theta,
+                    steps,
+                    finished,
+                    interior,
+                } => {
+                    polished.0 += 1;
+                    polished.1 += steps;
+                    polished.2 = polished.2.max(interior);
+                    pos = positions;
+                    theta = polished_theta;
+                    layout.gradient(&pos, &piece.faces, &mut grad);
+                    let before = f;
+                    (err, f) = Piece::errors(&theta);
+                    if f < best.0 {
+                        if f < STALL_GAIN * gain_ref {
+                            best_at = report.iterations;
+                            gain_ref = f;
+                        }
+                        best = (f, pos.clone());
+                    }
+                    // A region that did not finish but gained goes on at once, around what
+                    // is left; one that gained little gives the global steps a turn.
+                    if !finished && f >= LOCAL_GAIN * before {
+                        local_retry_at = report.iterations + LOCAL_RETRY_AFTER;
+                    }
+                    continue;
+                }
+                RegionRun::Failed => local_retry_at = report.iterations + LOCAL_RETRY_AFTER,
+            }
         }
         let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
         let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
@@ -599,12 +691,122 @@ pub fn run_from(
             best = (f, pos.clone());
         }
     }
+    if polished.0 > 0 {
+        report.messages.push(format!(
+            "local polish: {} region runs, {} iterations, regions of up to {} of {n} interior vertices",
+            polished.0, polished.1, polished.2
+        ));
+    }
     if lifts > 0 {
         report.messages.push(format!(
             "{lifts} lifts of nearly flat vertices with excess angle (second-order steps after {LIFT_AFTER} iterations without gain)"
         ));
     }
     RobustOutcome { positions: best.1 }
+}
+
+/// Local polish (`local_polish.rs`): pieces with at least this many interior vertices
+/// (below, a factorisation of the whole piece costs little more than building a region)…
+const LOCAL_MIN_INTERIOR: usize = 1000;
+/// … go to a region once at most 1/`LOCAL_ACTIVE_DIVISOR` of their interior vertices are
+/// above the tolerance…
+const LOCAL_ACTIVE_DIVISOR: usize = 20;
+/// … and the region holds at most 1/`LOCAL_REGION_DIVISOR` of them.
+const LOCAL_REGION_DIVISOR: usize = 4;
+/// Iterations a region's run gets, and how long the piece goes on with global steps after a
+/// region run that did not finish before it tries another.
+const LOCAL_BUDGET: usize = 30;
+const LOCAL_RETRY_AFTER: usize = 3;
+/// A region run that leaves at most this fraction of the merit is followed by another at once.
+const LOCAL_GAIN: f64 = 0.5;
+
+/// What a region run ([`polish_region`]) did.
+enum RegionRun {
+    /// It lowered the merit ‖θ − 2π‖² of the piece without folding a face: the piece's new
+    /// positions and θ, the region's accepted steps (already counted in the report), whether
+    /// the region reached the tolerance, and its interior vertex count.
+    Gained {
+        positions: Vec<[f64; 3]>,
+        theta: Vec<f64>,
+        steps: usize,
+        finished: bool,
+        interior: usize,
+    },
+    /// It did not.
+    Failed,
+}
+
+/// The local polish step of a run at `pos` (θ `theta`, damping `mu`): when at most
+/// 1/`LOCAL_ACTIVE_DIVISOR` of the interior vertices are above the tolerance and their region
+/// ([`crate::local_polish::region`]) holds at most 1/`LOCAL_REGION_DIVISOR` of them, robust
+/// mode on the region alone. `None` when no region is tried. The region's work (iterations,
+/// θ_err of the piece along the way, factorisations) goes into `report`.
+fn polish_region(
+    piece: &Piece,
+    pos: &[[f64; 3]],
+    theta: &[f64],
+    mu: f64,
+    opts: &ProcessOptions,
+    report: &mut PieceReport,
+) -> Option<RegionRun> {
+    let layout = &piece.layout;
+    let n = layout.n();
+    let active: Vec<usize> = (0..n)
+        .filter(|&i| (theta[i] - TAU).abs() > opts.tolerance_rad)
+        .collect();
+    if active.len() * LOCAL_ACTIVE_DIVISOR > n {
+        return None;
+    }
+    let region = crate::local_polish::region(
+        piece,
+        &active,
+        theta,
+        opts.tolerance_rad,
+        n / LOCAL_REGION_DIVISOR,
+        opts.min_angle_deg,
+    )?;
+    let mut sub = PieceReport::default();
+    let out = run_inner(
+        &region.piece,
+        &crate::local_polish::restrict(&region, pos),
+        &crate::local_polish::region_options(opts),
+        Some(LOCAL_BUDGET),
+        Polish::Region { mu },
+        &mut sub,
+    )
+    .positions;
+    crate::local_polish::account(report, &sub);
+    let positions = crate::local_polish::extend(&region, pos, &out);
+    let mut new_theta = vec![0.0; n];
+    layout.theta(&positions, &piece.faces, &mut new_theta);
+    let (err, f) = Piece::errors(&new_theta);
+    if f >= Piece::errors(theta).1 || piece.folded_faces(&positions) > 0 {
+        return Some(RegionRun::Failed);
+    }
+    // θ_err of the piece along the region's run: the region's, or the unchanged rest's where
+    // that is larger.
+    let mut in_region = vec![false; n];
+    for &v in &region.piece.layout.interior {
+        let p = region.parent_of[v as usize];
+        in_region[layout.index_of[p as usize] as usize] = true;
+    }
+    let rest = (0..n)
+        .filter(|&i| !in_region[i])
+        .map(|i| (theta[i] - TAU).abs())
+        .fold(0.0f64, f64::max);
+    let steps = sub.theta_err.len().saturating_sub(1).max(1);
+    for e in sub.theta_err.iter().skip(1).take(steps - 1) {
+        report.theta_err.push(e.max(rest));
+    }
+    report.theta_err.push(err);
+    report.iterations += steps;
+    Some(RegionRun::Gained {
+        positions,
+        theta: new_theta,
+        steps,
+        finished: sub.converged,
+        interior: region.piece.layout.n(),
+    })
 }
 
 /// Iterations without a 10 % gain of the merit after which nearly flat vertices with excess
