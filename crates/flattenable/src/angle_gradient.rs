@@ -1,5 +1,5 @@
 //! θ(v), the summed corner angle at a vertex, and its exact gradient with respect to the
-//! vertex and every one-ring neighbour (the paper's Eq. 4–5, derived in its ref. [37]).
+//! vertex and every one-ring neighbour (the paper's Eq. 4–5, derived in its ref. 37).
 //!
 //! For the corner at `p` of a triangle (p, a, b) with u = a − p, w = b − p, unit normal
 //! n = u × w / |u × w| and angle α = atan2(|u × w|, u · w):

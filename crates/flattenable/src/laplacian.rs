@@ -25,7 +25,7 @@ use crate::options::{Laplacian, Target};
 
 /// The prepared least-square filter of one piece.
 pub struct LeastSquareUpdate {
-    /// Lᵀ in the layout of A: `lt[e]` = L[col(e)][row(e)].
+    /// Lᵀ in the layout of A: `lt[e]` = `L[col(e)][row(e)]`.
     lt: Vec<f64>,
     /// g per interior vertex (boundary terms, plus L v⁰ for `Target::Detail`).
     g: Vec<[f64; 3]>,

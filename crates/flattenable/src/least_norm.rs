@@ -382,7 +382,7 @@ impl Layout {
         }
     }
 
-    /// Lower values of Lᵀ L into `values`, where `lt[e]` holds L[col(e)][row(e)] (Lᵀ in the
+    /// Lower values of Lᵀ L into `values`, where `lt[e]` holds `L[col(e)][row(e)]` (Lᵀ in the
     /// layout of A).
     pub fn gram_of_transposed(&self, lt: &[f64], values: &mut [f64]) {
         values.iter_mut().for_each(|v| *v = 0.0);

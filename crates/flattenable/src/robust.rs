@@ -26,6 +26,11 @@
 //! angle (whose rows of A nearly vanish) get a second-order step along their normal
 //! (`lift_flat_excess`); negatively curved pieces otherwise stall there depending on round-off.
 //!
+//! Local polish (`ProcessOptions::local_polish`): once at most 1/`LOCAL_ACTIVE_DIVISOR` of
+//! the interior vertices of a large piece are above the tolerance, the run goes on on the
+//! region around them alone ([`crate::local_polish`]), whose factorisations are those of a
+//! small matrix.
+//!
 //! Stops: θ_err ≤ tolerance (converged); the iteration limit; μ beyond `MU_MAX` (no
 //! decreasing unfolded step exists at any damping); or no 10 % gain of the merit
 //! ‖θ − 2π‖² in `STALL_WINDOW` iterations. The best unfolded state (lowest merit) is
