@@ -263,9 +263,10 @@ fn run_inner(
     let mut reached = false;
     report.stop_reason = "iteration limit".into();
     // Local polish: the iteration before which no region is tried (after a region that did
-    // not finish), and what the regions did: (runs, their iterations, largest region).
+    // not finish), the wait after the next one that does not, and what the regions did.
     let mut local_retry_at = 0usize;
-    let mut polished = (0usize, 0usize, 0usize);
+    let mut local_wait = LOCAL_RETRY_AFTER;
+    let mut polished = PolishTally::default();
     loop {
         reached |= err <= opts.tolerance_rad || report.pull_backs > 0;
         // A pull-back under way: `None` while its restoring steps go on, then `Some(None)`
@@ -463,9 +464,9 @@ fn run_inner(
                     finished,
                     interior,
                 } => {
-                    polished.0 += 1;
-                    polished.1 += steps;
-                    polished.2 = polished.2.max(interior);
+                    polished.runs += 1;
+                    polished.steps += steps;
+                    polished.largest = polished.largest.max(interior);
                     pos = positions;
                     theta = polished_theta;
                     layout.gradient(&pos, &piece.faces, &mut grad);
@@ -481,11 +482,19 @@ fn run_inner(
                     // A region that did not finish but gained goes on at once, around what
                     // is left; one that gained little gives the global steps a turn.
                     if !finished && f >= LOCAL_GAIN * before {
-                        local_retry_at = report.iterations + LOCAL_RETRY_AFTER;
+                        local_retry_at = report.iterations + local_wait;
+                        local_wait *= 2;
                     }
                     continue;
                 }
-                RegionRun::Failed => local_retry_at = report.iterations + LOCAL_RETRY_AFTER,
+                RegionRun::Failed => {
+                    // Where regions do not gain (a piece stuck at the angle floor with a few
+                    // vertices above the tolerance), try them ever more rarely.
+                    polished.runs += 1;
+                    polished.failed += 1;
+                    local_retry_at = report.iterations + local_wait;
+                    local_wait *= 2;
+                }
             }
         }
         let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
@@ -696,10 +705,10 @@ fn run_inner(
             best = (f, pos.clone());
         }
     }
-    if polished.0 > 0 {
+    if polished.runs > 0 {
         report.messages.push(format!(
-            "local polish: {} region runs, {} iterations, regions of up to {} of {n} interior vertices",
-            polished.0, polished.1, polished.2
+            "local polish: {} region runs ({} without gain), {} iterations, regions of up to {} of {n} interior vertices",
+            polished.runs, polished.failed, polished.steps, polished.largest
         ));
     }
     if lifts > 0 {
@@ -719,11 +728,23 @@ const LOCAL_ACTIVE_DIVISOR: usize = 20;
 /// … and the region holds at most 1/`LOCAL_REGION_DIVISOR` of them.
 const LOCAL_REGION_DIVISOR: usize = 4;
 /// Iterations a region's run gets, and how long the piece goes on with global steps after a
-/// region run that did not finish before it tries another.
+/// region run that did not finish before it tries another (doubled after each such run).
 const LOCAL_BUDGET: usize = 30;
 const LOCAL_RETRY_AFTER: usize = 3;
 /// A region run that leaves at most this fraction of the merit is followed by another at once.
 const LOCAL_GAIN: f64 = 0.5;
+
+/// What the region runs of a piece did (for its message).
+#[derive(Default)]
+struct PolishTally {
+    runs: usize,
+    /// Runs whose result was not kept.
+    failed: usize,
+    /// Accepted steps of the kept runs.
+    steps: usize,
+    /// Interior vertices of the largest kept region.
+    largest: usize,
+}
 
 /// What a region run ([`polish_region`]) did.
 enum RegionRun {
