@@ -72,25 +72,17 @@ pub(crate) fn region(
     // by its few moving neighbours (measured: the region's run then stalls at 1.03 × the
     // tolerance). Rim vertices above RIM_FRACTION of it move too, until none is left.
     let rim_limit = RIM_FRACTION * tolerance_rad;
-    loop {
-        let mut grew = false;
-        for p in 0..nv {
-            if !moving[p] {
-                continue;
+    let mut grow: Vec<u32> = (0..nv as u32).filter(|&p| moving[p as usize]).collect();
+    while let Some(p) = grow.pop() {
+        for &q in piece.topo.one_ring(VertexId(p)).unwrap_or(&[]) {
+            let i = layout.index_of[q as usize];
+            if i != flatcut_mesh::INVALID
+                && !moving[q as usize]
+                && (theta[i as usize] - std::f64::consts::TAU).abs() > rim_limit
+            {
+                moving[q as usize] = true;
+                grow.push(q);
             }
-            for &q in piece.topo.one_ring(VertexId(p as u32)).unwrap_or(&[]) {
-                let i = layout.index_of[q as usize];
-                if i != flatcut_mesh::INVALID
-                    && !moving[q as usize]
-                    && (theta[i as usize] - std::f64::consts::TAU).abs() > rim_limit
-                {
-                    moving[q as usize] = true;
-                    grew = true;
-                }
-            }
-        }
-        if !grew {
-            break;
         }
     }
     // Constrained: the moving vertices and their interior neighbours (whose θ the moving
