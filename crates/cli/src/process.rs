@@ -58,6 +58,10 @@ pub struct ProcessArgs {
     /// command still fails with exit code 1).
     #[arg(long)]
     pub keep_best: bool,
+    /// Robust mode: end every piece with global steps, without the local polish (by default
+    /// a large piece's last steps are solved on the region still above --tolerance).
+    #[arg(long)]
+    pub no_local_polish: bool,
     /// Also write the report as JSON to this file.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -235,6 +239,7 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
         weights,
         boundary_ring_weight: args.boundary_ring_weight,
         tolerance_rad: args.tolerance,
+        local_polish: !args.no_local_polish,
         ..Default::default()
     };
     let (processed, failure) = match flatcut_flattenable::process(&mesh, &opts) {

@@ -192,3 +192,53 @@ fn unconverged_run_fails_and_writes_nothing_unless_asked() {
     assert_eq!(run.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&run.stderr).contains("w.txt:1"));
 }
+
+/// `--no-local-polish` ends the run with global steps: the 40×40 cap (1 444 interior
+/// vertices) ends with a region by default and without one with the flag; both are flat to
+/// the tolerance and the same surface to a hundredth of the grid spacing.
+#[test]
+fn no_local_polish_ends_with_global_steps() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cap.obj");
+    std::fs::write(&input, cap_obj(40)).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(format!("{name}.obj"));
+        let report = dir.path().join(format!("{name}.json"));
+        let status = flatcut()
+            .args(["process", input.to_str().unwrap(), out.to_str().unwrap()])
+            .args(["--report", report.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert_eq!(status.status.code(), Some(0), "{status:?}");
+        let rep: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        (read_obj(&out).0, rep)
+    };
+    let (polished, a) = run("polished", &[]);
+    let (global, b) = run("global", &["--no-local-polish"]);
+    let polish_messages = |rep: &serde_json::Value| {
+        rep["pieces"][0]["messages"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|m| m.as_str().unwrap().starts_with("local polish"))
+            .count()
+    };
+    assert_eq!(polish_messages(&a), 1, "{a}");
+    assert_eq!(polish_messages(&b), 0, "{b}");
+    for rep in [&a, &b] {
+        assert_eq!(rep["converged"], true);
+        assert!(rep["final_theta_err"].as_f64().unwrap() <= 1e-9);
+    }
+    // Grid spacing: the file's 10 units over 39 intervals (read and written as mm).
+    let spacing_mm = 10.0 / 39.0;
+    let farthest = polished
+        .iter()
+        .zip(&global)
+        .map(|(p, q)| {
+            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+        })
+        .fold(0.0f64, f64::max);
+    assert!(farthest < 0.01 * spacing_mm, "{farthest} mm");
+}
