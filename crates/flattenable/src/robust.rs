@@ -106,10 +106,52 @@ struct Snapshot {
     pos: Vec<[f64; 3]>,
     mu: f64,
     stiff: Vec<f64>,
-    best: (f64, Vec<[f64; 3]>),
-    best_at: usize,
+    best: Best,
     last_lift: usize,
+}
+
+/// The best state of a run by the merit f = ‖θ − 2π‖² (what the steps decrease; θ_err, the
+/// max, can rise meanwhile), and what the stall and lift tests count from.
+#[derive(Clone)]
+struct Best {
+    merit: f64,
+    pos: Vec<[f64; 3]>,
+    /// The iteration of the last counted gain (or restart).
+    at: usize,
+    /// The merit at the last counted gain: a slow steady decrease counts once it adds up to
+    /// a 10 % gain (comparing with the previous best would never count it).
     gain_ref: f64,
+}
+
+impl Best {
+    fn new(merit: f64, pos: &[[f64; 3]]) -> Self {
+        Self {
+            merit,
+            pos: pos.to_vec(),
+            at: 0,
+            gain_ref: merit,
+        }
+    }
+
+    /// An accepted state at `iteration`: kept if it beats the best, counted as a gain if it
+    /// beats `STALL_GAIN` of the last counted one.
+    fn record(&mut self, merit: f64, pos: &[[f64; 3]], iteration: usize) {
+        if merit < self.merit {
+            if merit < STALL_GAIN * self.gain_ref {
+                self.at = iteration;
+                self.gain_ref = merit;
+            }
+            self.merit = merit;
+            self.pos = pos.to_vec();
+        }
+    }
+
+    /// The stall count starts again at `iteration` from `merit` (after a pull-back or a
+    /// lift); the best state stays.
+    fn restart(&mut self, merit: f64, iteration: usize) {
+        self.at = iteration;
+        self.gain_ref = merit;
+    }
 }
 
 /// Σ ‖a − v‖² over paired points.
@@ -207,12 +249,7 @@ fn run_inner(
             };
         }
     };
-    // Best state by the merit f (what the steps decrease); the max can rise meanwhile.
-    let mut best = (f, pos.clone());
-    let mut best_at = 0usize;
-    // The merit at the last counted gain: a slow steady decrease counts once it adds up to
-    // a 10 % gain (comparing with the previous best would never count it).
-    let mut gain_ref = f;
+    let mut best = Best::new(f, &pos);
     let scale: Vec<f64> = piece.weights.iter().map(|w| 1.0 / (w * w)).collect();
     let tangential = 1.0 / (opts.tangential_penalty * opts.tangential_penalty);
     let mut ls = match opts.update {
@@ -301,9 +338,8 @@ fn run_inner(
             mu = before.mu;
             stiff = before.stiff;
             best = before.best;
-            best_at = before.best_at + spent;
+            best.at += spent;
             last_lift = before.last_lift + spent;
-            gain_ref = before.gain_ref;
             pull_backs = 0;
             layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
             (err, f) = Piece::errors(&theta);
@@ -323,9 +359,7 @@ fn run_inner(
                 mu,
                 stiff: stiff.clone(),
                 best: best.clone(),
-                best_at,
                 last_lift,
-                gain_ref,
             };
             let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
             // Detail target: near the constraint set, move along its tangent space towards
@@ -397,8 +431,7 @@ fn run_inner(
             report.theta_err.push(err);
             // The stall test restarts from the pulled-back point; the best state stays the
             // restored one before it until the plain steps beat it.
-            best_at = report.iterations;
-            gain_ref = f;
+            best.restart(f, report.iterations);
             restoring = Some((report.iterations, before));
             continue;
         }
@@ -407,7 +440,7 @@ fn run_inner(
         if ls.is_none()
             && restoring.is_none()
             && err > opts.tolerance_rad
-            && report.iterations >= best_at + LIFT_AFTER
+            && report.iterations >= best.at + LIFT_AFTER
             && report.iterations >= last_lift + LIFT_AFTER
             && lifts < MAX_LIFTS
         {
@@ -418,14 +451,14 @@ fn run_inner(
                 (err, f) = Piece::errors(&theta);
                 report.iterations += 1;
                 report.theta_err.push(err);
-                best_at = report.iterations;
-                gain_ref = f;
+                best.restart(f, report.iterations);
                 lifts += 1;
                 continue;
             }
         }
         if err <= opts.tolerance_rad {
-            best = (f, pos.clone());
+            best.merit = f;
+            best.pos.clone_from(&pos);
             report.converged = true;
             report.stop_reason = format!("θ_err ≤ {:.1e} rad", opts.tolerance_rad);
             break;
@@ -441,7 +474,7 @@ fn run_inner(
                 format!("not converged within the {budget} iterations allowed from this start");
             break;
         }
-        if report.iterations >= best_at + STALL_WINDOW {
+        if report.iterations >= best.at + STALL_WINDOW {
             report.stop_reason =
                 format!("stalled: no 10 % gain of ‖θ − 2π‖² in {STALL_WINDOW} iterations");
             break;
@@ -454,7 +487,7 @@ fn run_inner(
             && pull_backs == 0
             && n >= LOCAL_MIN_INTERIOR
             && report.iterations >= local_retry_at
-            && let Some(done) = polish_region(piece, &pos, &theta, mu, opts, report)
+            && let Some(done) = polish_region(piece, &pos, (&theta, f), mu, opts, report)
         {
             match done {
                 RegionRun::Gained {
@@ -472,13 +505,7 @@ fn run_inner(
                     layout.gradient(&pos, &piece.faces, &mut grad);
                     let before = f;
                     (err, f) = Piece::errors(&theta);
-                    if f < best.0 {
-                        if f < STALL_GAIN * gain_ref {
-                            best_at = report.iterations;
-                            gain_ref = f;
-                        }
-                        best = (f, pos.clone());
-                    }
+                    best.record(f, &pos, report.iterations);
                     // A region that did not finish but gained goes on at once, around what
                     // is left; one that gained little gives the global steps a turn.
                     if !finished && f >= LOCAL_GAIN * before {
@@ -697,13 +724,7 @@ fn run_inner(
         (err, f) = Piece::errors(&theta);
         report.iterations += 1;
         report.theta_err.push(err);
-        if f < best.0 {
-            if f < STALL_GAIN * gain_ref {
-                best_at = report.iterations;
-                gain_ref = f;
-            }
-            best = (f, pos.clone());
-        }
+        best.record(f, &pos, report.iterations);
     }
     if polished.runs > 0 {
         report.messages.push(format!(
@@ -716,7 +737,9 @@ fn run_inner(
             "{lifts} lifts of nearly flat vertices with excess angle (second-order steps after {LIFT_AFTER} iterations without gain)"
         ));
     }
-    RobustOutcome { positions: best.1 }
+    RobustOutcome {
+        positions: best.pos,
+    }
 }
 
 /// Local polish (`local_polish.rs`): pieces with at least this many interior vertices
@@ -762,7 +785,7 @@ enum RegionRun {
     Failed,
 }
 
-/// The local polish step of a run at `pos` (θ `theta`, damping `mu`): when at most
+/// The local polish step of a run at `pos` (θ `theta` and its merit, damping `mu`): when at most
 /// 1/`LOCAL_ACTIVE_DIVISOR` of the interior vertices are above the tolerance and their region
 /// ([`crate::local_polish::region`]) holds at most 1/`LOCAL_REGION_DIVISOR` of them, robust
 /// mode on the region alone. `None` when no region is tried. The region's work (iterations,
@@ -770,7 +793,7 @@ enum RegionRun {
 fn polish_region(
     piece: &Piece,
     pos: &[[f64; 3]],
-    theta: &[f64],
+    (theta, merit): (&[f64], f64),
     mu: f64,
     opts: &ProcessOptions,
     report: &mut PieceReport,
@@ -806,7 +829,7 @@ fn polish_region(
     let mut new_theta = vec![0.0; n];
     layout.theta(&positions, &piece.faces, &mut new_theta);
     let (err, f) = Piece::errors(&new_theta);
-    if f >= Piece::errors(theta).1 || piece.folded_faces(&positions) > 0 {
+    if f >= merit || piece.folded_faces(&positions) > 0 {
         return Some(RegionRun::Failed);
     }
     // θ_err of the piece along the region's run: the region's, or the unchanged rest's where
