@@ -3,6 +3,8 @@
 //! same piece (the cost an iteration is measured against). Iterations, θ_err and the time per
 //! factorisation (CPU time) are printed once per size.
 //!
+//! Also the coarsening of the 3.5k and 10k caps (`-- coarsen`), a fixed cost of coarse-to-fine.
+//!
 //! `cargo bench -p flatcut_flattenable --bench process`
 
 use std::hint::black_box;
@@ -134,5 +136,22 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+/// The coarsening coarse-to-fine runs once per level before any iteration (to a quarter of
+/// the faces): a fixed cost of every piece of 2 000–15 000 faces.
+fn bench_coarsen(c: &mut Criterion) {
+    let mut group = c.benchmark_group("coarsen");
+    group.sample_size(20);
+    for n in [43usize, 72] {
+        let mesh = cap(n);
+        let target = mesh.face_count() / 4;
+        group.bench_function(format!("cap_{}_faces", mesh.face_count()), |b| {
+            b.iter(|| {
+                black_box(flatcut_flattenable::coarsen::coarsen(black_box(&mesh), target).is_ok())
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_coarsen);
 criterion_main!(benches);

@@ -973,6 +973,48 @@ fn tail() {
 /// `cargo run --release -p flatcut_flattenable --example measure -- [table|probe|probe_weights|probe_targets|real|bodies|speed|saddles|tail]`
 /// prints the measurement tables of docs/algorithms/flattenable.md (a tool, not a test: it asserts
 /// nothing; the tests assert the numbers that must hold).
+/// Time of one coarsening (to a quarter of the faces, as coarse-to-fine does) of the bench
+/// caps in SIZES and of the saddle grid, best of REPS, with a fingerprint of the result
+/// (faces and prolongation map, bit for bit) so that a faster coarsening can be checked to
+/// give the same hierarchy.
+fn coarsen_timing() {
+    use std::hash::{Hash, Hasher};
+    let reps: usize = env_or("REPS", 5);
+    let sizes: Vec<usize> = env_list("SIZES", vec![33, 43, 72, 100, 160]);
+    for n in sizes {
+        for (name, mesh) in [("cap", common::bench_cap(n)), ("saddle", common::saddle(n))] {
+            let target = mesh.face_count() / 4;
+            let mut best = f64::INFINITY;
+            let mut out = None;
+            for _ in 0..reps {
+                let t = std::time::Instant::now();
+                let c = flatcut_flattenable::coarsen::coarsen(&mesh, target).unwrap();
+                best = best.min(t.elapsed().as_secs_f64());
+                out = Some(c);
+            }
+            let c = out.unwrap();
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            c.mesh.faces.hash(&mut h);
+            c.fine_of_coarse.hash(&mut h);
+            for l in &c.location {
+                match *l {
+                    flatcut_flattenable::coarsen::Location::Kept(k) => (0u8, k).hash(&mut h),
+                    flatcut_flattenable::coarsen::Location::InFace { face, bary } => {
+                        (1u8, face, bary.map(f64::to_bits)).hash(&mut h)
+                    }
+                }
+            }
+            println!(
+                "{name} {} faces -> {}: {:.2} ms, fingerprint {:016x}",
+                mesh.face_count(),
+                c.mesh.face_count(),
+                best * 1e3,
+                h.finish()
+            );
+        }
+    }
+}
+
 fn main() {
     match std::env::args().nth(1).as_deref().unwrap_or("table") {
         "probe" => probe(),
@@ -985,6 +1027,7 @@ fn main() {
         "speed" => speed(),
         "saddles" => saddles(),
         "tail" => tail(),
+        "coarsen" => coarsen_timing(),
         other => {
             eprintln!(
                 "unknown table '{other}': use table, probe, probe_weights, probe_targets, real, bodies, speed or saddles"

@@ -45,6 +45,8 @@ const MIN_CORNER_DEG: f64 = 15.0;
 /// One-ring sizes kept on the stack (valence 6 is typical; 16 covers scan meshes' spread).
 const RING_INLINE: usize = 16;
 type Ring = SmallVec<[u32; RING_INLINE]>;
+/// Normals (unnormalised) and their lengths of a vertex's faces.
+type FanNormals = SmallVec<[([f64; 3], f64); RING_INLINE]>;
 
 /// Where a fine vertex lives on the coarse mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -215,8 +217,24 @@ impl State<'_> {
     /// valences: `best` and `valid` call this for every candidate of every touched vertex,
     /// and heap vectors here were most of the coarsening's time (`perf`).
     fn neighbours(&self, v: u32) -> Ring {
+        // Deduplicated in a plain array while it fits (SmallVec's inline/spilled check on
+        // every `contains` and `push` was half of this function's time), else in the Ring.
+        let fan = &self.vfaces[v as usize];
+        let mut buf = [0u32; RING_INLINE];
+        let mut len = 0usize;
+        if 2 * fan.len() <= RING_INLINE {
+            for &f in fan {
+                for w in self.faces[f as usize] {
+                    if w != v && !buf[..len].contains(&w) {
+                        buf[len] = w;
+                        len += 1;
+                    }
+                }
+            }
+            return Ring::from_slice(&buf[..len]);
+        }
         let mut n = Ring::new();
-        for &f in &self.vfaces[v as usize] {
+        for &f in fan {
             for w in self.faces[f as usize] {
                 if w != v && !n.contains(&w) {
                     n.push(w);
@@ -233,6 +251,24 @@ impl State<'_> {
 
     /// Whether v → u keeps a manifold disk of the same topology and acceptable shapes.
     fn valid(&self, v: u32, u: u32) -> bool {
+        self.valid_with(v, u, &self.neighbours(v), &self.fan_normals(v))
+    }
+
+    /// The normals (unnormalised) and their lengths of the faces of v, in the order of
+    /// `vfaces[v]`: what `valid_with` compares every candidate's new faces against.
+    fn fan_normals(&self, v: u32) -> FanNormals {
+        self.vfaces[v as usize]
+            .iter()
+            .map(|&f| {
+                let n = self.normal(self.faces[f as usize]);
+                (n, norm(n))
+            })
+            .collect()
+    }
+
+    /// `valid` with the neighbours of v and the normals of its faces given: `best` tries
+    /// several candidates of one v, and these are the same for all of them.
+    fn valid_with(&self, v: u32, u: u32, nv: &Ring, fan: &FanNormals) -> bool {
         let mut shared = [INVALID; 2];
         let mut count = 0usize;
         for &f in &self.vfaces[v as usize] {
@@ -255,7 +291,6 @@ impl State<'_> {
         });
         // Link condition: the common neighbours of u and v are exactly the two opposite
         // vertices (otherwise the collapse makes a non-manifold edge or pinches the disk).
-        let nv = self.neighbours(v);
         let nu = self.neighbours(u);
         let common = nv.iter().filter(|w| nu.contains(w)).count();
         if common != 2 || opposite[0] == opposite[1] {
@@ -270,15 +305,14 @@ impl State<'_> {
             }
         }
         // Faces that stay: v replaced by u. Normal turn and corner floor.
-        for &f in &self.vfaces[v as usize] {
+        for (&f, &(n0, l0)) in self.vfaces[v as usize].iter().zip(fan) {
             if shared.contains(&f) {
                 continue;
             }
             let old = self.faces[f as usize];
             let new = old.map(|w| if w == v { u } else { w });
-            let n0 = self.normal(old);
             let n1 = self.normal(new);
-            let (l0, l1) = (norm(n0), norm(n1));
+            let l1 = norm(n1);
             // A zero-area (or NaN) new face is refused too.
             if l1.is_nan() || l1 <= 0.0 || dot(n0, n1) < self.cos_turn * l0 * l1 {
                 return false;
@@ -310,13 +344,14 @@ impl State<'_> {
         // The cheapest valid neighbour: candidates by (cost, index), validated in that order
         // until one passes — the validity test is the expensive part and the cheapest
         // candidate usually passes.
-        let mut candidates: SmallVec<[(f64, u32); RING_INLINE]> = self
-            .neighbours(v)
-            .into_iter()
-            .map(|u| (self.cost(v, u), u))
-            .collect();
+        let nv = self.neighbours(v);
+        let mut candidates: SmallVec<[(f64, u32); RING_INLINE]> =
+            nv.iter().map(|&u| (self.cost(v, u), u)).collect();
         candidates.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        candidates.into_iter().find(|&(_, u)| self.valid(v, u))
+        let fan = self.fan_normals(v);
+        candidates
+            .into_iter()
+            .find(|&(_, u)| self.valid_with(v, u, &nv, &fan))
     }
 
     fn collapse(&mut self, v: u32, u: u32) {
