@@ -16,7 +16,7 @@ use std::collections::VecDeque;
 use flatcut_mesh::vec3::{add, sub};
 use flatcut_mesh::{Topology, TriMesh};
 
-use crate::coarsen::{Coarsened, coarsen};
+use crate::coarsen::{Coarsened, coarsen_with};
 use crate::options::{CoarseToFine, ProcessOptions, Prolongation};
 use crate::piece::Piece;
 use crate::report::PieceReport;
@@ -268,6 +268,8 @@ fn pass(
 ) -> Result<Pass, FlattenableError> {
     // levels[k] maps level k (k = 0 the piece) to level k + 1.
     let mut levels: Vec<Coarsened> = Vec::new();
+    // The topology of each coarse level, built once for its coarsening and its piece.
+    let mut topos: Vec<Topology> = Vec::new();
     let mut weights: Vec<Vec<f64>> = vec![w_local.to_vec()];
     loop {
         let cur = levels.last().map_or(local, |c| &c.mesh);
@@ -275,7 +277,7 @@ fn pass(
             break;
         }
         let target = (cur.face_count() as f64 / c2f.ratio) as usize;
-        let c = coarsen(cur, target)?;
+        let c = coarsen_with(cur, topos.last().unwrap_or(&piece.topo), target)?;
         if (c.mesh.face_count() as f64) > (1.0 - MIN_REDUCTION) * cur.face_count() as f64 {
             break;
         }
@@ -283,6 +285,7 @@ fn pass(
             c.fine_of_coarse.iter().map(|&v| w[v as usize]).collect()
         });
         weights.push(w);
+        topos.push(Topology::build(&c.mesh)?);
         levels.push(c);
     }
     if levels.is_empty() {
@@ -306,7 +309,7 @@ fn pass(
     let mut summary = Vec::new();
     for k in (1..=levels.len()).rev() {
         let mesh = &levels[k - 1].mesh;
-        let topo = Topology::build(mesh)?;
+        let topo = topos[k - 1].clone();
         let n = mesh.vertex_count();
         let lp = Piece::new(
             piece.index,
