@@ -307,9 +307,9 @@ fn pass(
     // Solve from the coarsest level up to level 1.
     let mut solution: Option<Vec<[f64; 3]>> = None;
     let mut summary = Vec::new();
-    for k in (1..=levels.len()).rev() {
+    // Level k's topology is topos[k − 1]: taken coarsest first, each moved into its piece.
+    for (k, topo) in (1..=levels.len()).rev().zip(topos.into_iter().rev()) {
         let mesh = &levels[k - 1].mesh;
-        let topo = topos[k - 1].clone();
         let n = mesh.vertex_count();
         let lp = Piece::new(
             piece.index,
