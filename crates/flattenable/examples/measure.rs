@@ -3,7 +3,7 @@
 //! W = cap|saddle, TARGET=zero, PAPER/LS/TAN to add variants; probe_weights; probe_targets
 //! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA; DIAG=1 shows
 //! where the residual sits; speed [SIZES=…, REPS, TRACE=1]; saddles [SEEDS=…, DIAG=1], the
-//! round-off robustness check).
+//! round-off robustness check; SHAPE=bcap for the bench cap).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 
@@ -792,7 +792,9 @@ fn speed() {
 /// The 100×100 saddle with its coordinates multiplied by 1 + k·2.2e-16, k ∈ {−1, 0, 1} per
 /// coordinate from a xorshift sequence (seed 0: the exact grid): the robustness check for
 /// anything that changes round-off (docs/algorithms/flattenable.md, "Double roots"). Seeds
-/// 0–6 (SEEDS=…), two at a time; N for another size, TARGET=zero.
+/// 0–6 (SEEDS=…), two at a time; N for another size, TARGET=zero. `SHAPE=bcap` perturbs the
+/// bench's sphere cap instead: how much a run's cost depends on round-off alone
+/// (docs/benchmarks.md).
 fn saddles() {
     let n: usize = env_or("N", 100);
     let seeds: Vec<u64> = env_list("SEEDS", (0..7).collect());
@@ -804,7 +806,12 @@ fn saddles() {
         opts.update = Update::LeastSquare;
     }
     let run = |seed: u64| -> String {
-        let mut mesh = common::saddle(n);
+        // `SHAPE=bcap`: the bench's sphere cap instead of the saddle.
+        let mut mesh = if std::env::var("SHAPE").as_deref() == Ok("bcap") {
+            common::bench_cap(n)
+        } else {
+            common::saddle(n)
+        };
         if seed > 0 {
             common::perturb_by_one_ulp(&mut mesh, seed);
         }
@@ -856,7 +863,7 @@ fn saddles() {
         }
         let p = &rep.pieces[0];
         format!(
-            "seed {seed}: {} it={} rej={} fact={} err={:.1e} rmsd={:.4} area={:+.3}% turn={:.1}° crease={:.1}° creased={} t={:.1}s stop={}",
+            "seed {seed}: {} it={} rej={} fact={} err={:.1e} rmsd={:.4} area={:+.3}% turn={:.1}° crease={:.1}° creased={} t={:.2}s stop={}",
             if rep.converged { "conv" } else { "NOTCONV" },
             p.iterations,
             p.rejected_steps,
