@@ -77,21 +77,6 @@ impl<'a> Metric<'a> {
     }
 
     #[inline]
-    fn bilinear(&self, c: usize, gi: [f64; 3], gj: [f64; 3]) -> f64 {
-        let s = self.scale[c];
-        let dij = gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2];
-        match self.normals {
-            Some(n) if self.tangential < 1.0 => {
-                let n = n[c];
-                let ni = n[0] * gi[0] + n[1] * gi[1] + n[2] * gi[2];
-                let nj = n[0] * gj[0] + n[1] * gj[1] + n[2] * gj[2];
-                s * (self.tangential * dij + (1.0 - self.tangential) * ni * nj)
-            }
-            _ => s * dij,
-        }
-    }
-
-    #[inline]
     fn apply(&self, c: usize, g: [f64; 3]) -> [f64; 3] {
         let s = self.scale[c];
         match self.normals {
@@ -384,9 +369,39 @@ impl Layout {
     /// Lower values of A G Aᵀ (without shift) into `values` (length [`Layout::normal_nnz`]).
     pub fn normal_matrix(&self, grad: &[[f64; 3]], metric: &Metric<'_>, values: &mut [f64]) {
         values.iter_mut().for_each(|v| *v = 0.0);
-        for c in 0..self.n() {
-            for &[s, ei, ej] in &self.contrib[self.contrib_ptr[c]..self.contrib_ptr[c + 1]] {
-                values[s as usize] += metric.bilinear(c, grad[ei as usize], grad[ej as usize]);
+        match metric.normals {
+            Some(normals) if metric.tangential < 1.0 => {
+                // n_c · g_e once per entry of A rather than once per pair of entries that
+                // share column c (the same products, so the same values bit for bit).
+                let ng: Vec<f64> = grad
+                    .iter()
+                    .zip(&self.col)
+                    .map(|(g, &c)| {
+                        let n = normals[c as usize];
+                        n[0] * g[0] + n[1] * g[1] + n[2] * g[2]
+                    })
+                    .collect();
+                let t = metric.tangential;
+                for c in 0..self.n() {
+                    let s_c = metric.scale[c];
+                    let pairs = &self.contrib[self.contrib_ptr[c]..self.contrib_ptr[c + 1]];
+                    for &[s, ei, ej] in pairs {
+                        let (gi, gj) = (grad[ei as usize], grad[ej as usize]);
+                        let dij = gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2];
+                        let (ni, nj) = (ng[ei as usize], ng[ej as usize]);
+                        values[s as usize] += s_c * (t * dij + (1.0 - t) * ni * nj);
+                    }
+                }
+            }
+            _ => {
+                for c in 0..self.n() {
+                    let s_c = metric.scale[c];
+                    let pairs = &self.contrib[self.contrib_ptr[c]..self.contrib_ptr[c + 1]];
+                    for &[s, ei, ej] in pairs {
+                        let (gi, gj) = (grad[ei as usize], grad[ej as usize]);
+                        values[s as usize] += s_c * (gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2]);
+                    }
+                }
             }
         }
     }
