@@ -140,6 +140,17 @@ impl Piece {
         })
     }
 
+    /// θ_err = max |θ − 2π| and the merit Σ (|θ − 2π| − `dead_zone_rad`)₊²: residuals within
+    /// the dead zone count zero. With a dead zone of 0 the values are [`Piece::errors`]' bit
+    /// for bit.
+    pub fn merit(theta: &[f64], dead_zone_rad: f64) -> (f64, f64) {
+        theta.iter().fold((0.0f64, 0.0f64), |(m, s), &t| {
+            let r = t - TAU;
+            let q = beyond(r, dead_zone_rad);
+            (m.max(r.abs()), s + q * q)
+        })
+    }
+
     /// Fills the measured fields of a report for the final `positions`.
     pub fn measure(&self, positions: &[[f64; 3]], report: &mut PieceReport) {
         let mut theta = vec![0.0; self.layout.n()];
@@ -257,5 +268,45 @@ impl Piece {
             .iter()
             .map(|&p| flatcut_mesh::vec3::normalize(acc[p as usize]))
             .collect()
+    }
+}
+
+/// The part of a residual `r` beyond ±`dead_zone_rad` (0 inside it; `r` itself, bit for bit,
+/// for a dead zone of 0, except that −0.0 becomes +0.0).
+#[inline]
+pub fn beyond(r: f64, dead_zone_rad: f64) -> f64 {
+    r - r.clamp(-dead_zone_rad, dead_zone_rad)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_merit_with_no_dead_zone_is_the_squared_residual_bit_for_bit() {
+        let theta = [TAU + 3e-3, TAU - 1e-9, TAU + 2.5e-10, TAU, TAU - 0.7];
+        assert_eq!(Piece::merit(&theta, 0.0), Piece::errors(&theta));
+        // (−0.0 comes back as +0.0, the same value; 2π − θ is never −0.0.)
+        for r in [3e-3, -1e-9, 0.0, 1e-300, -7.0] {
+            assert_eq!(beyond(r, 0.0).to_bits(), r.to_bits());
+        }
+    }
+
+    #[test]
+    fn the_dead_zone_counts_only_what_lies_beyond_it() {
+        let z = 5e-10;
+        // Residuals θ − 2π of +2e-9, −2e-9 (beyond by 1.5e-9 each), +4e-10 and −5e-10 (inside).
+        let theta = [TAU + 2e-9, TAU - 2e-9, TAU + 4e-10, TAU - 5e-10];
+        let (err, f) = Piece::merit(&theta, z);
+        assert_eq!(err, (theta[0] - TAU).abs().max((theta[1] - TAU).abs()));
+        // Σ (|r| − z)₊² from the residuals as represented, against 2·(1.5e-9)².
+        let expect: f64 = theta
+            .iter()
+            .map(|t| ((t - TAU).abs() - z).max(0.0).powi(2))
+            .sum();
+        assert!((f - expect).abs() <= 1e-12 * expect, "{f} vs {expect}");
+        assert!((f - 2.0 * 1.5e-9f64.powi(2)).abs() < 1e-3 * f, "{f}");
+        assert_eq!(beyond(4e-10, z), 0.0);
+        assert_eq!(beyond(-3e-9, z), -3e-9 + z);
     }
 }

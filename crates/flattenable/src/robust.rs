@@ -31,6 +31,10 @@
 //! region around them alone ([`crate::local_polish`]), whose factorisations are those of a
 //! small matrix.
 //!
+//! Near θ = 2π (θ_err ≤ `DEAD_ZONE_FROM_RAD`) the merit ignores residuals within half the
+//! tolerance (`Piece::merit`): they need not go, and on large pieces chasing them cost most
+//! of the end game.
+//!
 //! Stops: θ_err ≤ tolerance (converged); the iteration limit; μ beyond `MU_MAX` (no
 //! decreasing unfolded step exists at any damping); or no 10 % gain of the merit
 //! ‖θ − 2π‖² in `STALL_WINDOW` iterations. The best unfolded state (lowest merit) is
@@ -41,7 +45,7 @@ use std::f64::consts::TAU;
 use crate::laplacian::LeastSquareUpdate;
 use crate::least_norm::{Layout, Metric};
 use crate::options::{ProcessOptions, Target, Update};
-use crate::piece::Piece;
+use crate::piece::{Piece, beyond};
 use crate::report::PieceReport;
 
 /// Initial damping relative to the mean diagonal of A G Aᵀ (the prototype's value).
@@ -69,6 +73,18 @@ const MAX_STIFFEN: usize = 6;
 const MAX_CORRECTIONS: usize = 3;
 /// Accept a trial when ρ exceeds this (any real decrease of the merit).
 const RHO_ACCEPT: f64 = 1e-4;
+/// θ_err from which the merit has a dead zone (radians), and its half-width as a fraction of
+/// the tolerance: residuals within it count zero in f and in the right-hand side. Near the end
+/// of a large piece most of ‖θ − 2π‖² sat at vertices already within the tolerance (the
+/// 100k cap's nearly flat top: ~19 000 at −9e-10, rows of A of norm·h ~1e-4), and steps that
+/// chased them blew up at every damping. With the zone the 100k cap takes 46–50
+/// factorisations over seven inputs within one ulp of the grid, where it took 56–161
+/// (docs/algorithms/flattenable.md, "A dead zone in the merit"). Not from the start: far from
+/// θ = 2π it only perturbs paths (one of the seven one-ulp saddles stalled). 1e-6 and 1e-8,
+/// and zones of 0.25 and 0.75 of the tolerance, measured no better. With a tolerance looser
+/// than 1e-7 the run ends before the zone would act.
+const DEAD_ZONE_FROM_RAD: f64 = 1e-7;
+const DEAD_ZONE_FRACTION: f64 = 0.5;
 /// `Target::Detail`: a pull-back towards the input is taken whenever the surface has been
 /// restored to θ_err below this (radians), i.e. close enough to the constraint set that its
 /// tangent space (the null space of A) is accurate.
@@ -108,6 +124,7 @@ struct Snapshot {
     stiff: Vec<f64>,
     best: Best,
     last_lift: usize,
+    dead_zone: f64,
 }
 
 /// The best state of a run by the merit f = ‖θ − 2π‖² (what the steps decrease; θ_err, the
@@ -236,7 +253,10 @@ fn run_inner(
     let mut grad = vec![[0.0; 3]; layout.entries()];
     let mut normal = vec![0.0; layout.normal_nnz()];
     layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
-    let (mut err, mut f) = Piece::errors(&theta);
+    // The merit's dead zone: 0 until θ_err is within `DEAD_ZONE_FROM_RAD`, then
+    // `DEAD_ZONE_FRACTION` of the tolerance.
+    let mut dead_zone = 0.0;
+    let (mut err, mut f) = Piece::merit(&theta, dead_zone);
     report.theta_err.push(err);
     // One set of factorisation buffers for every step of the run (only an allocation
     // failure stops here: the start is returned, unconverged, with the reason).
@@ -305,6 +325,17 @@ fn run_inner(
     let mut local_wait = LOCAL_RETRY_AFTER;
     let mut polished = PolishTally::default();
     loop {
+        // Near θ = 2π the merit stops counting residuals well within the tolerance: on a
+        // large piece they are many (the nearly flat top of a cap, ~1e-9 below 2π at
+        // tens of thousands of vertices), they lie where rows of A nearly vanish, and chasing
+        // them blew up every step (docs/algorithms/flattenable.md, "A dead zone in the merit").
+        // From here the merit has one definition, so the best state restarts from this one.
+        if dead_zone == 0.0 && err <= DEAD_ZONE_FROM_RAD {
+            dead_zone = DEAD_ZONE_FRACTION * opts.tolerance_rad;
+            f = Piece::merit(&theta, dead_zone).1;
+            best = Best::new(f, &pos);
+            best.at = report.iterations;
+        }
         reached |= err <= opts.tolerance_rad || report.pull_backs > 0;
         // A pull-back under way: `None` while its restoring steps go on, then `Some(None)`
         // to keep it or `Some(Some(reason))` to undo it.
@@ -340,9 +371,10 @@ fn run_inner(
             best = before.best;
             best.at += spent;
             last_lift = before.last_lift + spent;
+            dead_zone = before.dead_zone;
             pull_backs = 0;
             layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
-            (err, f) = Piece::errors(&theta);
+            (err, f) = Piece::merit(&theta, dead_zone);
             report
                 .messages
                 .push(format!("pull-back undone after {spent} iterations: {why}"));
@@ -360,6 +392,7 @@ fn run_inner(
                 stiff: stiff.clone(),
                 best: best.clone(),
                 last_lift,
+                dead_zone,
             };
             let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
             // Detail target: near the constraint set, move along its tangent space towards
@@ -425,7 +458,7 @@ fn run_inner(
                 continue;
             }
             layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
-            (err, f) = Piece::errors(&theta);
+            (err, f) = Piece::merit(&theta, dead_zone);
             report.iterations += 1;
             report.pull_backs += 1;
             report.theta_err.push(err);
@@ -448,7 +481,7 @@ fn run_inner(
             if let Some(lifted) = lift_flat_excess(piece, layout, &pos, &theta, err, &reach) {
                 pos = lifted;
                 layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
-                (err, f) = Piece::errors(&theta);
+                (err, f) = Piece::merit(&theta, dead_zone);
                 report.iterations += 1;
                 report.theta_err.push(err);
                 best.restart(f, report.iterations);
@@ -487,7 +520,7 @@ fn run_inner(
             && pull_backs == 0
             && n >= LOCAL_MIN_INTERIOR
             && report.iterations >= local_retry_at
-            && let Some(done) = polish_region(piece, &pos, (&theta, f), mu, opts, report)
+            && let Some(done) = polish_region(piece, &pos, (&theta, f, dead_zone), mu, opts, report)
         {
             match done {
                 RegionRun::Gained {
@@ -504,7 +537,7 @@ fn run_inner(
                     theta = polished_theta;
                     layout.gradient(&pos, &piece.faces, &mut grad);
                     let before = f;
-                    (err, f) = Piece::errors(&theta);
+                    (err, f) = Piece::merit(&theta, dead_zone);
                     best.record(f, &pos, report.iterations);
                     // A region that did not finish but gained goes on at once, around what
                     // is left; one that gained little gives the global steps a turn.
@@ -525,7 +558,7 @@ fn run_inner(
             }
         }
         let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
-        let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
+        let b: Vec<f64> = theta.iter().map(|t| beyond(TAU - t, dead_zone)).collect();
         let interior = piece.interior_of(&pos);
         let mut accepted = None;
         let mut stiffened = 0usize;
@@ -618,7 +651,7 @@ fn run_inner(
             }
             let mut f_trial = if folded == 0 {
                 layout.theta(&trial, &piece.faces, &mut trial_theta);
-                Piece::errors(&trial_theta).1
+                Piece::merit(&trial_theta, dead_zone).1
             } else {
                 f64::INFINITY
             };
@@ -628,7 +661,10 @@ fn run_inner(
             // set θ = 2π. Kept while each one at least halves the merit.
             if folded == 0 && ls.is_none() {
                 for _ in 0..MAX_CORRECTIONS {
-                    let r: Vec<f64> = trial_theta.iter().map(|t| TAU - t).collect();
+                    let r: Vec<f64> = trial_theta
+                        .iter()
+                        .map(|t| beyond(TAU - t, dead_zone))
+                        .collect();
                     let Some(dc) = solve(&r) else { break };
                     let mut cand = trial.clone();
                     for (i, &p) in layout.interior.iter().enumerate() {
@@ -641,7 +677,7 @@ fn run_inner(
                     }
                     let mut cand_theta = vec![0.0; n];
                     layout.theta(&cand, &piece.faces, &mut cand_theta);
-                    let f_cand = Piece::errors(&cand_theta).1;
+                    let f_cand = Piece::merit(&cand_theta, dead_zone).1;
                     if f_cand.is_nan() || f_cand >= 0.5 * f_trial {
                         break;
                     }
@@ -699,8 +735,18 @@ fn run_inner(
                 BACKTRACKS
             };
             if ls.is_none()
-                && let Some((short, short_theta)) =
-                    backtrack(piece, layout, &pos, &interior, &d, &b, &ad, f, n, tries)
+                && let Some((short, short_theta)) = backtrack(
+                    piece,
+                    layout,
+                    &pos,
+                    &interior,
+                    &d,
+                    &b,
+                    &ad,
+                    (f, dead_zone),
+                    n,
+                    tries,
+                )
             {
                 report.backtracked_steps += 1;
                 mu *= 2.0;
@@ -728,7 +774,7 @@ fn run_inner(
             None => std::mem::swap(&mut theta, &mut trial_theta),
         }
         layout.gradient(&pos, &piece.faces, &mut grad);
-        (err, f) = Piece::errors(&theta);
+        (err, f) = Piece::merit(&theta, dead_zone);
         report.iterations += 1;
         report.theta_err.push(err);
         best.record(f, &pos, report.iterations);
@@ -800,7 +846,7 @@ enum RegionRun {
 fn polish_region(
     piece: &Piece,
     pos: &[[f64; 3]],
-    (theta, merit): (&[f64], f64),
+    (theta, merit, dead_zone): (&[f64], f64, f64),
     mu: f64,
     opts: &ProcessOptions,
     report: &mut PieceReport,
@@ -835,7 +881,7 @@ fn polish_region(
     let positions = crate::local_polish::extend(&region, pos, &out);
     let mut new_theta = vec![0.0; n];
     layout.theta(&positions, &piece.faces, &mut new_theta);
-    let (err, f) = Piece::errors(&new_theta);
+    let (err, f) = Piece::merit(&new_theta, dead_zone);
     if f >= merit || piece.folded_faces(&positions) > 0 {
         return Some(RegionRun::Failed);
     }
@@ -1012,7 +1058,7 @@ fn backtrack(
     d: &[[f64; 3]],
     b: &[f64],
     ad: &[f64],
-    f: f64,
+    (f, dead_zone): (f64, f64),
     n: usize,
     tries: usize,
 ) -> Option<(Vec<[f64; 3]>, Vec<f64>)> {
@@ -1033,7 +1079,7 @@ fn backtrack(
         let cand = piece.with_interior(pos, &next);
         if piece.folded_faces(&cand) == 0 {
             layout.theta(&cand, &piece.faces, &mut theta);
-            let f_cand = Piece::errors(&theta).1;
+            let f_cand = Piece::merit(&theta, dead_zone).1;
             let res: f64 = b
                 .iter()
                 .zip(ad)
