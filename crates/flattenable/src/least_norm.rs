@@ -368,7 +368,7 @@ impl Layout {
 
     /// Lower values of A G Aᵀ (without shift) into `values` (length [`Layout::normal_nnz`]).
     pub fn normal_matrix(&self, grad: &[[f64; 3]], metric: &Metric<'_>, values: &mut [f64]) {
-        values.iter_mut().for_each(|v| *v = 0.0);
+        let dot = |gi: [f64; 3], gj: [f64; 3]| gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2];
         match metric.normals {
             Some(normals) if metric.tangential < 1.0 => {
                 // n_c · g_e once per entry of A rather than once per pair of entries that
@@ -376,42 +376,40 @@ impl Layout {
                 let ng: Vec<f64> = grad
                     .iter()
                     .zip(&self.col)
-                    .map(|(g, &c)| {
-                        let n = normals[c as usize];
-                        n[0] * g[0] + n[1] * g[1] + n[2] * g[2]
-                    })
+                    .map(|(g, &c)| dot(normals[c as usize], *g))
                     .collect();
                 let t = metric.tangential;
-                for c in 0..self.n() {
-                    let s_c = metric.scale[c];
-                    let pairs = &self.contrib[self.contrib_ptr[c]..self.contrib_ptr[c + 1]];
-                    for &[s, ei, ej] in pairs {
-                        let (gi, gj) = (grad[ei as usize], grad[ej as usize]);
-                        let dij = gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2];
-                        let (ni, nj) = (ng[ei as usize], ng[ej as usize]);
-                        values[s as usize] += s_c * (t * dij + (1.0 - t) * ni * nj);
-                    }
-                }
+                self.accumulate_pairs(values, |c, ei, ej| {
+                    let dij = dot(grad[ei], grad[ej]);
+                    metric.scale[c] * (t * dij + (1.0 - t) * ng[ei] * ng[ej])
+                });
             }
-            _ => {
-                for c in 0..self.n() {
-                    let s_c = metric.scale[c];
-                    let pairs = &self.contrib[self.contrib_ptr[c]..self.contrib_ptr[c + 1]];
-                    for &[s, ei, ej] in pairs {
-                        let (gi, gj) = (grad[ei as usize], grad[ej as usize]);
-                        values[s as usize] += s_c * (gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2]);
-                    }
-                }
-            }
+            _ => self.accumulate_pairs(values, |c, ei, ej| {
+                metric.scale[c] * dot(grad[ei], grad[ej])
+            }),
         }
     }
 
     /// Lower values of Lᵀ L into `values`, where `lt[e]` holds `L[col(e)][row(e)]` (Lᵀ in the
     /// layout of A).
     pub fn gram_of_transposed(&self, lt: &[f64], values: &mut [f64]) {
+        self.accumulate_pairs(values, |_, ei, ej| lt[ei] * lt[ej]);
+    }
+
+    /// `values[s] = Σ term(c, e_i, e_j)` over the products (s, e_i, e_j) of entries of A that
+    /// share column c, column by column in the layout's order (the one sum both normal
+    /// matrices are made of).
+    #[inline]
+    fn accumulate_pairs(
+        &self,
+        values: &mut [f64],
+        mut term: impl FnMut(usize, usize, usize) -> f64,
+    ) {
         values.iter_mut().for_each(|v| *v = 0.0);
-        for &[s, ei, ej] in &self.contrib {
-            values[s as usize] += lt[ei as usize] * lt[ej as usize];
+        for c in 0..self.n() {
+            for &[s, ei, ej] in &self.contrib[self.contrib_ptr[c]..self.contrib_ptr[c + 1]] {
+                values[s as usize] += term(c, ei as usize, ej as usize);
+            }
         }
     }
 

@@ -736,16 +736,7 @@ fn run_inner(
             };
             if ls.is_none()
                 && let Some((short, short_theta)) = backtrack(
-                    piece,
-                    layout,
-                    &pos,
-                    &interior,
-                    &d,
-                    &b,
-                    &ad,
-                    (f, dead_zone),
-                    n,
-                    tries,
+                    piece, layout, &pos, &interior, &d, &b, &ad, f, dead_zone, n, tries,
                 )
             {
                 report.backtracked_steps += 1;
@@ -1058,7 +1049,8 @@ fn backtrack(
     d: &[[f64; 3]],
     b: &[f64],
     ad: &[f64],
-    (f, dead_zone): (f64, f64),
+    f: f64,
+    dead_zone: f64,
     n: usize,
     tries: usize,
 ) -> Option<(Vec<[f64; 3]>, Vec<f64>)> {
