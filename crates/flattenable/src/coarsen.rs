@@ -45,8 +45,6 @@ const MIN_CORNER_DEG: f64 = 15.0;
 /// One-ring sizes kept on the stack (valence 6 is typical; 16 covers scan meshes' spread).
 const RING_INLINE: usize = 16;
 type Ring = SmallVec<[u32; RING_INLINE]>;
-/// Normals (unnormalised) and their lengths of a vertex's faces.
-type FanNormals = SmallVec<[([f64; 3], f64); RING_INLINE]>;
 
 /// Where a fine vertex lives on the coarse mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -125,22 +123,37 @@ fn quadric_eval(q: &Quadric, p: [f64; 3]) -> f64 {
     s
 }
 
-/// Heap entry: lowest cost first, ties by vertex ids (deterministic).
-#[derive(Clone, Copy, PartialEq)]
+/// Heap entry: lowest cost first, ties by vertex ids (deterministic). The order is kept as
+/// integers — `cost` as the key of `f64::total_cmp`, then (v, u), then the stamp — since
+/// comparing entries was most of the heap's share of the coarsening (`perf`).
+#[derive(Clone, Copy, PartialEq, Eq)]
 struct Entry {
-    cost: f64,
-    v: u32,
-    u: u32,
+    cost_key: u64,
+    v_u: u64,
     stamp: u32,
 }
-impl Eq for Entry {}
+impl Entry {
+    fn new(cost: f64, v: u32, u: u32, stamp: u32) -> Self {
+        // `total_cmp`'s order as an unsigned integer: negative values' magnitude bits
+        // flipped, then the sign bit flipped so that negatives come first.
+        let bits = cost.to_bits() as i64;
+        let ordered = bits ^ (((bits >> 63) as u64) >> 1) as i64;
+        Self {
+            cost_key: (ordered as u64) ^ (1 << 63),
+            v_u: (u64::from(v) << 32) | u64::from(u),
+            stamp,
+        }
+    }
+    fn v(&self) -> u32 {
+        (self.v_u >> 32) as u32
+    }
+    fn u(&self) -> u32 {
+        self.v_u as u32
+    }
+}
 impl Ord for Entry {
     fn cmp(&self, o: &Self) -> Ordering {
-        o.cost
-            .total_cmp(&self.cost)
-            .then(o.v.cmp(&self.v))
-            .then(o.u.cmp(&self.u))
-            .then(o.stamp.cmp(&self.stamp))
+        (o.cost_key, o.v_u, o.stamp).cmp(&(self.cost_key, self.v_u, self.stamp))
     }
 }
 impl PartialOrd for Entry {
@@ -203,6 +216,13 @@ struct State<'a> {
     faces: Vec<[u32; 3]>,
     face_alive: Vec<bool>,
     vfaces: Vec<Vec<u32>>,
+    /// The distinct neighbours of every vertex, kept up to date by `collapse`: `best` and
+    /// `valid` ask for them for every candidate of every touched vertex, and building them
+    /// each time was a sixth of the coarsening (`perf`).
+    rings: Vec<Ring>,
+    /// Normal (unnormalised) and its length of every live face, kept up to date by
+    /// `collapse` (positions never change, so only faces that take a new vertex change).
+    face_normal: Vec<([f64; 3], f64)>,
     boundary: Vec<bool>,
     quadric: Vec<Quadric>,
     /// Removed fine vertices located in each face.
@@ -213,10 +233,10 @@ struct State<'a> {
 }
 
 impl State<'_> {
-    /// The distinct neighbours of `v`, in the order of its faces. On the stack for the usual
-    /// valences: `best` and `valid` call this for every candidate of every touched vertex,
-    /// and heap vectors here were most of the coarsening's time (`perf`).
-    fn neighbours(&self, v: u32) -> Ring {
+    /// The distinct neighbours of `v`, in the order of its faces (their order does not
+    /// matter to any caller: candidates are sorted, links are counted, touched vertices
+    /// are pushed to a totally ordered heap).
+    fn ring_of(&self, v: u32) -> Ring {
         // Deduplicated in a plain array while it fits (SmallVec's inline/spilled check on
         // every `contains` and `push` was half of this function's time), else in the Ring.
         let fan = &self.vfaces[v as usize];
@@ -249,26 +269,13 @@ impl State<'_> {
         cross(sub(p[1], p[0]), sub(p[2], p[0]))
     }
 
+    fn normal_and_length(&self, f: [u32; 3]) -> ([f64; 3], f64) {
+        let n = self.normal(f);
+        (n, norm(n))
+    }
+
     /// Whether v → u keeps a manifold disk of the same topology and acceptable shapes.
     fn valid(&self, v: u32, u: u32) -> bool {
-        self.valid_with(v, u, &self.neighbours(v), &self.fan_normals(v))
-    }
-
-    /// The normals (unnormalised) and their lengths of the faces of v, in the order of
-    /// `vfaces[v]`: what `valid_with` compares every candidate's new faces against.
-    fn fan_normals(&self, v: u32) -> FanNormals {
-        self.vfaces[v as usize]
-            .iter()
-            .map(|&f| {
-                let n = self.normal(self.faces[f as usize]);
-                (n, norm(n))
-            })
-            .collect()
-    }
-
-    /// `valid` with the neighbours of v and the normals of its faces given: `best` tries
-    /// several candidates of one v, and these are the same for all of them.
-    fn valid_with(&self, v: u32, u: u32, nv: &Ring, fan: &FanNormals) -> bool {
         let mut shared = [INVALID; 2];
         let mut count = 0usize;
         for &f in &self.vfaces[v as usize] {
@@ -291,8 +298,11 @@ impl State<'_> {
         });
         // Link condition: the common neighbours of u and v are exactly the two opposite
         // vertices (otherwise the collapse makes a non-manifold edge or pinches the disk).
-        let nu = self.neighbours(u);
-        let common = nv.iter().filter(|w| nu.contains(w)).count();
+        let nu = &self.rings[u as usize];
+        let common = self.rings[v as usize]
+            .iter()
+            .filter(|w| nu.contains(w))
+            .count();
         if common != 2 || opposite[0] == opposite[1] {
             return false;
         }
@@ -305,10 +315,11 @@ impl State<'_> {
             }
         }
         // Faces that stay: v replaced by u. Normal turn and corner floor.
-        for (&f, &(n0, l0)) in self.vfaces[v as usize].iter().zip(fan) {
+        for &f in &self.vfaces[v as usize] {
             if shared.contains(&f) {
                 continue;
             }
+            let (n0, l0) = self.face_normal[f as usize];
             let old = self.faces[f as usize];
             let new = old.map(|w| if w == v { u } else { w });
             let n1 = self.normal(new);
@@ -317,11 +328,14 @@ impl State<'_> {
             if l1.is_nan() || l1 <= 0.0 || dot(n0, n1) < self.cos_turn * l0 * l1 {
                 return false;
             }
+            // Corner k between the edges to k + 1 and k + 2: with e_k = p[k+1] − p[k],
+            // those are e_k and −e_(k+2), so three edge lengths serve the three corners
+            // (negation is exact: the same cosines bit for bit as six lengths would give).
             let p = new.map(|w| self.pos[w as usize]);
+            let e = [sub(p[1], p[0]), sub(p[2], p[1]), sub(p[0], p[2])];
+            let l = e.map(norm);
             for k in 0..3 {
-                let a = sub(p[(k + 1) % 3], p[k]);
-                let b = sub(p[(k + 2) % 3], p[k]);
-                let c = dot(a, b) / (norm(a) * norm(b));
+                let c = -dot(e[k], e[(k + 2) % 3]) / (l[k] * l[(k + 2) % 3]);
                 // Corner below the floor ⇔ cos above its cos; NaN (zero edge) refused.
                 if c.is_nan() || c > self.cos_corner {
                     return false;
@@ -344,14 +358,12 @@ impl State<'_> {
         // The cheapest valid neighbour: candidates by (cost, index), validated in that order
         // until one passes — the validity test is the expensive part and the cheapest
         // candidate usually passes.
-        let nv = self.neighbours(v);
-        let mut candidates: SmallVec<[(f64, u32); RING_INLINE]> =
-            nv.iter().map(|&u| (self.cost(v, u), u)).collect();
+        let mut candidates: SmallVec<[(f64, u32); RING_INLINE]> = self.rings[v as usize]
+            .iter()
+            .map(|&u| (self.cost(v, u), u))
+            .collect();
         candidates.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let fan = self.fan_normals(v);
-        candidates
-            .into_iter()
-            .find(|&(_, u)| self.valid_with(v, u, &nv, &fan))
+        candidates.into_iter().find(|&(_, u)| self.valid(v, u))
     }
 
     fn collapse(&mut self, v: u32, u: u32) {
@@ -375,6 +387,14 @@ impl State<'_> {
             }
         }
         self.vfaces[u as usize].sort_unstable();
+        for &f in &kept {
+            self.face_normal[f as usize] = self.normal_and_length(self.faces[f as usize]);
+        }
+        // The links that changed: u's and those of v's neighbours (u among them).
+        let ring_v = std::mem::take(&mut self.rings[v as usize]);
+        for &w in &ring_v {
+            self.rings[w as usize] = self.ring_of(w);
+        }
         let qv = self.quadric[v as usize];
         for (a, b) in self.quadric[u as usize].iter_mut().zip(qv) {
             *a += b;
@@ -437,6 +457,8 @@ pub fn coarsen_with(
         faces: mesh.faces.clone(),
         face_alive: vec![true; mesh.face_count()],
         vfaces,
+        rings: Vec::new(),
+        face_normal: Vec::new(),
         boundary,
         quadric,
         assigned: vec![Vec::new(); mesh.face_count()],
@@ -444,51 +466,39 @@ pub fn coarsen_with(
         cos_turn: MAX_NORMAL_TURN_DEG.to_radians().cos(),
         cos_corner: MIN_CORNER_DEG.to_radians().cos(),
     };
+    st.rings = (0..nv as u32).map(|v| st.ring_of(v)).collect();
+    st.face_normal = st.faces.iter().map(|&f| st.normal_and_length(f)).collect();
     let mut stamp = vec![0u32; nv];
     let mut heap = BinaryHeap::new();
     for v in 0..nv as u32 {
         if let Some((cost, u)) = st.best(v) {
-            heap.push(Entry {
-                cost,
-                v,
-                u,
-                stamp: 0,
-            });
+            heap.push(Entry::new(cost, v, u, 0));
         }
     }
     let mut vertex_alive = vec![true; nv];
     let mut faces_left = mesh.face_count();
     while faces_left > target_faces {
         let Some(e) = heap.pop() else { break };
-        if !vertex_alive[e.v as usize] || stamp[e.v as usize] != e.stamp {
+        let (v, u) = (e.v(), e.u());
+        if !vertex_alive[v as usize] || stamp[v as usize] != e.stamp {
             continue;
         }
-        if !vertex_alive[e.u as usize] || !st.valid(e.v, e.u) {
-            stamp[e.v as usize] += 1;
-            if let Some((cost, u)) = st.best(e.v) {
-                heap.push(Entry {
-                    cost,
-                    v: e.v,
-                    u,
-                    stamp: stamp[e.v as usize],
-                });
+        if !vertex_alive[u as usize] || !st.valid(v, u) {
+            stamp[v as usize] += 1;
+            if let Some((cost, u)) = st.best(v) {
+                heap.push(Entry::new(cost, v, u, stamp[v as usize]));
             }
             continue;
         }
-        st.collapse(e.v, e.u);
-        vertex_alive[e.v as usize] = false;
+        st.collapse(v, u);
+        vertex_alive[v as usize] = false;
         faces_left -= 2;
-        let mut touched = st.neighbours(e.u);
-        touched.push(e.u);
+        let mut touched = st.rings[u as usize].clone();
+        touched.push(u);
         for w in touched {
             stamp[w as usize] += 1;
             if let Some((cost, u)) = st.best(w) {
-                heap.push(Entry {
-                    cost,
-                    v: w,
-                    u,
-                    stamp: stamp[w as usize],
-                });
+                heap.push(Entry::new(cost, w, u, stamp[w as usize]));
             }
         }
     }
