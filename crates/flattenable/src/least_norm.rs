@@ -82,7 +82,6 @@ impl PermutedPattern {
                 entries.push((a.max(b), a.min(b), s as u32));
             }
         }
-        entries.sort_unstable_by_key(|&(r, c, _)| (c, r));
         let mut lower_ptr = vec![0u32; n + 1];
         let mut upper_ptr = vec![0u32; n + 1];
         for &(r, c, _) in &entries {
@@ -93,17 +92,35 @@ impl PermutedPattern {
             lower_ptr[k + 1] += lower_ptr[k];
             upper_ptr[k + 1] += upper_ptr[k];
         }
+        // Two counting passes instead of a sort: by row into the upper form's columns
+        // (`by_row`), then, visiting those in row order, into the lower form's columns, whose
+        // rows therefore come out sorted.
+        let mut by_row = vec![(0u32, 0u32); nnz];
+        let mut next = upper_ptr[..n].to_vec();
+        for &(r, c, s) in &entries {
+            by_row[next[r as usize] as usize] = (c, s);
+            next[r as usize] += 1;
+        }
         let mut slot_of = vec![0u32; nnz];
-        let mut lower_rows = Vec::with_capacity(nnz);
+        let mut lower_rows = vec![0u32; nnz];
+        let mut next = lower_ptr[..n].to_vec();
+        for r in 0..n {
+            for &(c, s) in &by_row[upper_ptr[r] as usize..upper_ptr[r + 1] as usize] {
+                let k = next[c as usize] as usize;
+                slot_of[s as usize] = k as u32;
+                lower_rows[k] = r as u32;
+                next[c as usize] += 1;
+            }
+        }
+        // The upper form's rows (the columns c of each row r) sorted too: the same two
+        // passes the other way round.
         let mut upper_rows = vec![0u32; nnz];
         let mut next = upper_ptr[..n].to_vec();
-        // Entries by column, then row: the lower rows come out sorted, and so do the upper
-        // ones (column c's entries are visited in increasing c).
-        for (k, &(r, c, s)) in entries.iter().enumerate() {
-            slot_of[s as usize] = k as u32;
-            lower_rows.push(r);
-            upper_rows[next[r as usize] as usize] = c;
-            next[r as usize] += 1;
+        for c in 0..n {
+            for &r in &lower_rows[lower_ptr[c] as usize..lower_ptr[c + 1] as usize] {
+                upper_rows[next[r as usize] as usize] = c as u32;
+                next[r as usize] += 1;
+            }
         }
         Self {
             col_ptr: lower_ptr,
