@@ -709,7 +709,11 @@ fn run_inner(
             };
             if f_trial.is_finite() && f_trial < f && rho > RHO_ACCEPT {
                 if rho > 0.75 {
-                    mu = (mu / MU_DOWN).max(MU_MIN);
+                    // Down by 10, but not so far that the next step is predicted past the
+                    // step cap (where the damping dominates, a step's length goes as 1/μ):
+                    // a step beyond 1.5 caps is refused, and each refusal is a factorisation.
+                    let down = MU_DOWN.min(STEP_CAP_EDGES / longest);
+                    mu = (mu / down).max(MU_MIN);
                 } else if rho < 0.25 {
                     mu *= 2.0;
                 }
