@@ -94,10 +94,12 @@ const PULL_BACK_AT_RAD: f64 = 1e-7;
 const PULL_BACKS: usize = 4;
 /// Pull-backs stop when one would shorten the RMS displacement by less than this fraction.
 const PULL_BACK_MIN_GAIN: f64 = 5e-3;
-/// Damping divisor after a very good step (ρ > 0.75). 10 rather than the textbook 3: the end
-/// phase needs μ down near 1e-9 before the slow modes of A G Aᵀ (rows that nearly vanish
-/// at nearly flat vertices) are solved, and with 3 the linear phase lasted longer than the
-/// stall window (cap 100×100 stalled at 1.1e-5, now converges in ~100 iterations).
+/// Largest damping divisor after a very good step (ρ > 0.75); smaller when the step was
+/// within a factor 10 of the step cap (the divisor then aims the next step at the cap).
+/// 10 rather than the textbook 3: the end phase needs μ down near 1e-9 before the slow
+/// modes of A G Aᵀ (rows that nearly vanish at nearly flat vertices) are solved, and with 3
+/// the linear phase lasted longer than the stall window (cap 100×100 stalled at 1.1e-5, now
+/// converges in ~100 iterations).
 const MU_DOWN: f64 = 10.0;
 /// A pull-back is shortened (halved, at most `PULL_BACK_HALVINGS` times) until θ_err after it
 /// is at most this (radians): the linearised tangent space is only accurate that close, and
