@@ -812,9 +812,7 @@ fn saddles() {
         } else {
             common::saddle(n)
         };
-        if seed > 0 {
-            common::perturb_by_one_ulp(&mut mesh, seed);
-        }
+        common::perturb_by_one_ulp(&mut mesh, seed);
         let t = std::time::Instant::now();
         let (rep, out) = match process(&mesh, &opts) {
             Ok(p) => (p.report, p.mesh),

@@ -615,12 +615,9 @@ impl Layout {
         let mut buf = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par));
         // Into the factor's order and back (what faer does itself when it holds the order).
         let mut permuted = vec![0.0; n * k];
-        for (to, from) in permuted
-            .chunks_exact_mut(n.max(1))
-            .zip(rhs.chunks_exact(n.max(1)))
-        {
-            for (t, &o) in to.iter_mut().zip(&self.order) {
-                *t = from[o as usize];
+        for col in 0..k {
+            for (kk, &o) in self.order.iter().enumerate() {
+                permuted[col * n + kk] = rhs[col * n + o as usize];
             }
         }
         let mat = MatMut::from_column_major_slice_mut(&mut permuted, n, k);
@@ -630,12 +627,9 @@ impl Layout {
             par,
             MemStack::new(&mut buf),
         );
-        for (from, to) in permuted
-            .chunks_exact(n.max(1))
-            .zip(rhs.chunks_exact_mut(n.max(1)))
-        {
-            for (&f, &o) in from.iter().zip(&self.order) {
-                to[o as usize] = f;
+        for col in 0..k {
+            for (kk, &o) in self.order.iter().enumerate() {
+                rhs[col * n + o as usize] = permuted[col * n + kk];
             }
         }
     }
@@ -723,6 +717,11 @@ mod tests {
                 }
             }
         }
+        csc_of_pairs(n, pairs)
+    }
+
+    /// A lower CSC pattern from its (column, row) pairs: sorted, duplicates removed.
+    fn csc_of_pairs(n: usize, mut pairs: Vec<(u32, u32)>) -> (Vec<u32>, Vec<u32>) {
         pairs.sort_unstable();
         pairs.dedup();
         let mut col_ptr = vec![0u32; n + 1];
@@ -755,16 +754,12 @@ mod tests {
                     pairs.push((a.min(b), a.max(b)));
                 }
             }
-            pairs.sort_unstable();
-            let mut stored_ptr = vec![0u32; layout.n() + 1];
-            for &(j, _) in &pairs {
-                stored_ptr[j as usize + 1] += 1;
-            }
-            for j in 0..layout.n() {
-                stored_ptr[j + 1] += stored_ptr[j];
-            }
+            let stored_len = pairs.len();
+            let (stored_ptr, stored_rows) = csc_of_pairs(layout.n(), pairs);
+            // No entry stored twice.
+            assert_eq!(stored_rows.len(), stored_len);
             assert_eq!(stored_ptr, col_ptr);
-            assert_eq!(pairs.iter().map(|&(_, i)| i).collect::<Vec<_>>(), row_idx);
+            assert_eq!(stored_rows, row_idx);
         }
     }
 }

@@ -116,6 +116,11 @@ const PULL_BACK_RESTORE_MAX: usize = 10;
 /// flat vertices; a projection needs no step control, only a defined factorisation).
 const PULL_BACK_MU: f64 = 1e-10;
 
+/// The right-hand side of a step: 2π − θ beyond the merit's dead zone, per interior vertex.
+fn residual_beyond(theta: &[f64], dead_zone: f64) -> Vec<f64> {
+    theta.iter().map(|t| beyond(TAU - t, dead_zone)).collect()
+}
+
 /// The iteration state before a pull-back, to undo it (`Target::Detail`).
 struct Snapshot {
     iterations: usize,
@@ -560,7 +565,7 @@ fn run_inner(
             }
         }
         let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
-        let b: Vec<f64> = theta.iter().map(|t| beyond(TAU - t, dead_zone)).collect();
+        let b = residual_beyond(&theta, dead_zone);
         let interior = piece.interior_of(&pos);
         let mut accepted = None;
         let mut stiffened = 0usize;
@@ -663,10 +668,7 @@ fn run_inner(
             // set θ = 2π. Kept while each one at least halves the merit.
             if folded == 0 && ls.is_none() {
                 for _ in 0..MAX_CORRECTIONS {
-                    let r: Vec<f64> = trial_theta
-                        .iter()
-                        .map(|t| beyond(TAU - t, dead_zone))
-                        .collect();
+                    let r = residual_beyond(&trial_theta, dead_zone);
                     let Some(dc) = solve(&r) else { break };
                     let mut cand = trial.clone();
                     for (i, &p) in layout.interior.iter().enumerate() {
