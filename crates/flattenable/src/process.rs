@@ -286,10 +286,27 @@ fn run_piece(
         boundary_loops: piece.topo.boundary_loops().len(),
         ..Default::default()
     };
+    let input_theta_err = (opts.mode == Mode::Robust && piece.layout.n() > 0).then(|| {
+        let mut theta = vec![0.0; piece.layout.n()];
+        piece.layout.theta(&piece.pos0, &piece.faces, &mut theta);
+        Piece::errors(&theta).0
+    });
     let positions = if piece.layout.n() == 0 {
         report.converged = true;
         report.theta_err.push(0.0);
         report.stop_reason = "no interior vertex: returned unchanged".into();
+        report.messages.push(report.stop_reason.clone());
+        local.positions.clone()
+    } else if let Some(err) = input_theta_err.filter(|&e| e <= opts.tolerance_rad) {
+        // Nothing to do, and nothing a run could improve: any move adds displacement. (Run
+        // anyway, a flat sheet went through a coarse-to-fine hierarchy and a pull-back that
+        // was undone, and said so.)
+        report.converged = true;
+        report.theta_err.push(err);
+        report.stop_reason = format!(
+            "already flattenable (θ_err {err:.1e} ≤ {:.1e} rad): returned unchanged",
+            opts.tolerance_rad
+        );
         report.messages.push(report.stop_reason.clone());
         local.positions.clone()
     } else {

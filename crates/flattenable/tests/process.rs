@@ -289,3 +289,42 @@ fn creases_of_the_result_are_measured_and_named() {
         assert!(p.max_normal_turn_deg > 5.0 && p.max_normal_turn_deg < 90.0);
     }
 }
+
+/// A piece whose input already has θ = 2π within the tolerance (a cylinder strip, a planar
+/// disk: developable polyhedra) comes back bit for bit, after no iteration, and says so; a
+/// curved piece beside it is processed as usual.
+#[test]
+fn an_already_flattenable_piece_is_returned_unchanged_without_iterations() {
+    let cyl = flatcut_mesh::shapes::cylinder_patch(30.0, 2.0, 40.0, 9, 7);
+    let disk = flatcut_mesh::shapes::planar_disk(50.0, 6);
+    let cap = common::sphere_cap(10);
+    let opts = ProcessOptions::default();
+    for flat in [&cyl, &disk] {
+        // Independent evidence that it is flattenable: the mesh crate's angle defects.
+        let topo = flatcut_mesh::Topology::build(flat).unwrap();
+        let defects = flatcut_mesh::geometry::angle_defects(&flat.positions, &flat.faces, &topo);
+        let worst = defects
+            .iter()
+            .flatten()
+            .map(|d| d.abs())
+            .fold(0.0, f64::max);
+        assert!(defects.iter().flatten().count() > 10);
+        assert!(worst <= 1e-12, "input defect {worst}");
+        let r = process(flat, &opts).unwrap();
+        assert_eq!(r.mesh.positions, flat.positions);
+        assert_eq!(r.report.iterations, 0);
+        let p = &r.report.pieces[0];
+        assert!(p.converged && p.factorizations == 0);
+        assert!(
+            p.messages
+                .iter()
+                .any(|m| m.starts_with("already flattenable"))
+        );
+        assert_eq!(p.theta_err.len(), 1);
+    }
+    let both = concat(&[cyl.clone(), cap.clone()], 200.0);
+    let r = process(&both, &opts).unwrap();
+    assert_eq!(r.report.pieces[0].iterations, 0);
+    assert!(r.report.pieces[1].iterations > 0);
+    assert_eq!(&r.mesh.positions[..cyl.vertex_count()], &cyl.positions[..]);
+}
