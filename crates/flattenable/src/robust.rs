@@ -64,6 +64,13 @@ const MU_MAX: f64 = 1e8;
 const STALL_WINDOW: usize = 100;
 /// The best merit must fall below this fraction of the previous best to count as a gain.
 const STALL_GAIN: f64 = 0.9;
+/// …nor in this many factorisations (rejected trials included). Every converging run
+/// measured went at most 23 factorisations from one such gain to the next (19 caps of
+/// 1.9k–14.5k faces: 13; 37 one-ulp saddles: 23; the converging patches, real meshes and
+/// body pieces: ≤ 10), while every stalled run spent 570–600 in its last 100 iterations —
+/// about five rejected trials per accepted step, 85 % of the scan-like body's 136 s
+/// (docs/algorithms/flattenable.md, "Stalls counted in factorisations").
+const STALL_FACTORIZATIONS: usize = 100;
 /// Factor by which a vertex of a face that would fold is stiffened, the largest stiffness,
 /// and how many stiffening rounds one iteration may try before raising the damping.
 const STIFFEN: f64 = 10.0;
@@ -124,6 +131,7 @@ fn residual_beyond(theta: &[f64], dead_zone: f64) -> Vec<f64> {
 /// The iteration state before a pull-back, to undo it (`Target::Detail`).
 struct Snapshot {
     iterations: usize,
+    factorizations: usize,
     /// Σ ‖v − v⁰‖² over the interior at `pos`.
     moved: f64,
     pos: Vec<[f64; 3]>,
@@ -145,25 +153,29 @@ struct Best {
     /// The merit at the last counted gain: a slow steady decrease counts once it adds up to
     /// a 10 % gain (comparing with the previous best would never count it).
     gain_ref: f64,
+    /// The report's factorisation count at the last counted gain (or restart).
+    factorizations_at: usize,
 }
 
 impl Best {
-    fn new(merit: f64, pos: &[[f64; 3]]) -> Self {
+    fn new(merit: f64, pos: &[[f64; 3]], factorizations: usize) -> Self {
         Self {
             merit,
             pos: pos.to_vec(),
             at: 0,
             gain_ref: merit,
+            factorizations_at: factorizations,
         }
     }
 
-    /// An accepted state at `iteration`: kept if it beats the best, counted as a gain if it
-    /// beats `STALL_GAIN` of the last counted one.
-    fn record(&mut self, merit: f64, pos: &[[f64; 3]], iteration: usize) {
+    /// An accepted state at `iteration` (after `factorizations` in all): kept if it beats
+    /// the best, counted as a gain if it beats `STALL_GAIN` of the last counted one.
+    fn record(&mut self, merit: f64, pos: &[[f64; 3]], iteration: usize, factorizations: usize) {
         if merit < self.merit {
             if merit < STALL_GAIN * self.gain_ref {
                 self.at = iteration;
                 self.gain_ref = merit;
+                self.factorizations_at = factorizations;
             }
             self.merit = merit;
             self.pos = pos.to_vec();
@@ -172,9 +184,17 @@ impl Best {
 
     /// The stall count starts again at `iteration` from `merit` (after a pull-back or a
     /// lift); the best state stays.
-    fn restart(&mut self, merit: f64, iteration: usize) {
+    fn restart(&mut self, merit: f64, iteration: usize, factorizations: usize) {
         self.at = iteration;
         self.gain_ref = merit;
+        self.factorizations_at = factorizations;
+    }
+
+    /// Whether the run has gone `STALL_WINDOW` iterations or `STALL_FACTORIZATIONS`
+    /// factorisations without a counted gain.
+    fn stalled(&self, iteration: usize, factorizations: usize) -> bool {
+        iteration >= self.at + STALL_WINDOW
+            || factorizations >= self.factorizations_at + STALL_FACTORIZATIONS
     }
 }
 
@@ -276,7 +296,7 @@ fn run_inner(
             };
         }
     };
-    let mut best = Best::new(f, &pos);
+    let mut best = Best::new(f, &pos, report.factorizations);
     let scale: Vec<f64> = piece.weights.iter().map(|w| 1.0 / (w * w)).collect();
     let tangential = 1.0 / (opts.tangential_penalty * opts.tangential_penalty);
     let mut ls = match opts.update {
@@ -340,7 +360,7 @@ fn run_inner(
         if dead_zone == 0.0 && err <= DEAD_ZONE_FROM_RAD {
             dead_zone = DEAD_ZONE_FRACTION * opts.tolerance_rad;
             f = Piece::merit(&theta, dead_zone).1;
-            best = Best::new(f, &pos);
+            best = Best::new(f, &pos, report.factorizations);
             best.at = report.iterations;
         }
         reached |= err <= opts.tolerance_rad || report.pull_backs > 0;
@@ -377,6 +397,7 @@ fn run_inner(
             stiff = before.stiff;
             best = before.best;
             best.at += spent;
+            best.factorizations_at += report.factorizations - before.factorizations;
             last_lift = before.last_lift + spent;
             dead_zone = before.dead_zone;
             pull_backs = 0;
@@ -393,6 +414,7 @@ fn run_inner(
             let z2 = displacement2(&anchor, &interior);
             let before = Snapshot {
                 iterations: report.iterations,
+                factorizations: report.factorizations,
                 moved: z2,
                 pos: pos.clone(),
                 mu,
@@ -471,7 +493,7 @@ fn run_inner(
             report.theta_err.push(err);
             // The stall test restarts from the pulled-back point; the best state stays the
             // restored one before it until the plain steps beat it.
-            best.restart(f, report.iterations);
+            best.restart(f, report.iterations, report.factorizations);
             restoring = Some((report.iterations, before));
             continue;
         }
@@ -491,7 +513,7 @@ fn run_inner(
                 (err, f) = Piece::merit(&theta, dead_zone);
                 report.iterations += 1;
                 report.theta_err.push(err);
-                best.restart(f, report.iterations);
+                best.restart(f, report.iterations, report.factorizations);
                 lifts += 1;
                 continue;
             }
@@ -514,9 +536,12 @@ fn run_inner(
                 format!("not converged within the {budget} iterations allowed from this start");
             break;
         }
-        if report.iterations >= best.at + STALL_WINDOW {
-            report.stop_reason =
-                format!("stalled: no 10 % gain of ‖θ − 2π‖² in {STALL_WINDOW} iterations");
+        if best.stalled(report.iterations, report.factorizations) {
+            report.stop_reason = format!(
+                "stalled: no 10 % gain of ‖θ − 2π‖² in {} iterations ({} factorisations)",
+                report.iterations - best.at,
+                report.factorizations - best.factorizations_at
+            );
             break;
         }
         // Near the end only a few vertices are above the tolerance: solve their region alone
@@ -545,7 +570,7 @@ fn run_inner(
                     layout.gradient(&pos, &piece.faces, &mut grad);
                     let before = f;
                     (err, f) = Piece::merit(&theta, dead_zone);
-                    best.record(f, &pos, report.iterations);
+                    best.record(f, &pos, report.iterations, report.factorizations);
                     // A region that did not finish but gained goes on at once, around what
                     // is left; one that gained little gives the global steps a turn.
                     if !finished && f >= LOCAL_GAIN * before {
@@ -776,7 +801,7 @@ fn run_inner(
         (err, f) = Piece::merit(&theta, dead_zone);
         report.iterations += 1;
         report.theta_err.push(err);
-        best.record(f, &pos, report.iterations);
+        best.record(f, &pos, report.iterations, report.factorizations);
     }
     if polished.runs > 0 {
         report.messages.push(format!(

@@ -475,3 +475,40 @@ fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
     let spent = piece.iterations - zero.report.pieces[0].iterations;
     assert!((1..=11).contains(&spent), "{spent} more iterations");
 }
+
+/// A piece that cannot become flat (a 120° cup, total defect 9.1 rad: it could only crumple)
+/// stalls with about five rejected trials per accepted step; the stall is counted in
+/// factorisations too, so it ends after 100 of them without a 10 % gain rather than 100
+/// iterations (~600 factorisations on such pieces). Converging runs never go 23
+/// factorisations without such a gain (docs: "Stalls counted in factorisations").
+#[test]
+fn a_hopeless_piece_stalls_within_a_hundred_factorisations_of_its_last_gain() {
+    let cup = flatcut_mesh::shapes::sphere_cap(100.0, 120f64.to_radians(), 16);
+    let opts = ProcessOptions {
+        coarse_to_fine: flatcut_flattenable::CoarseToFine {
+            levels: 0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let Err(FlattenableError::NotConverged {
+        partial, reason, ..
+    }) = process(&cup, &opts)
+    else {
+        panic!("the cup converged");
+    };
+    let p = &partial.report.pieces[0];
+    // "stalled: no 10 % gain of ‖θ − 2π‖² in K iterations (F factorisations)"
+    let numbers: Vec<usize> = reason
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    assert!(reason.starts_with("stalled"), "{reason}");
+    let [_ten, _two, k, f, ..] = numbers[..] else {
+        panic!("{reason}")
+    };
+    assert!(k < 100, "the iteration window fired first: {reason}");
+    assert!((100..140).contains(&f), "{reason}");
+    assert!(p.factorizations >= f && p.iterations >= k);
+    assert_eq!(partial.report.pieces[0].folded_faces, 0);
+}
