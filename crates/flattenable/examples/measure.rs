@@ -798,7 +798,10 @@ fn speed() {
 fn saddles() {
     let n: usize = env_or("N", 100);
     let seeds: Vec<u64> = env_list("SEEDS", (0..7).collect());
-    let mut opts = ProcessOptions::default();
+    let mut opts = ProcessOptions {
+        coarse_to_fine: c2f_from_env(),
+        ..Default::default()
+    };
     if std::env::var("TARGET").as_deref() == Ok("zero") {
         opts.target = Target::Zero;
     }

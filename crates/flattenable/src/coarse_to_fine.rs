@@ -41,14 +41,15 @@ const CRAWL_AT_RAD: f64 = 1e-4;
 const START_HALVINGS: usize = 8;
 
 /// Whether `faces`-face pieces go through [`run`] under `opts`: coarse-to-fine first
-/// (`min_faces..=max_faces`), or, with the rescue on, smaller pieces big enough for a rescue
-/// hierarchy (solved directly first, the hierarchies only if that fails).
+/// (`min_faces..=max_faces`), or, with the rescue on, pieces smaller or larger than that but
+/// big enough for a rescue hierarchy (solved directly first, the hierarchies only if that
+/// fails).
 pub fn applies(faces: usize, opts: &ProcessOptions) -> bool {
     let c = &opts.coarse_to_fine;
     c.levels > 0
-        && faces <= c.max_faces
         && c.ratio > 1.0
-        && (faces >= c.min_faces || (c.rescue && faces >= RESCUE_MIN_FACES * 2))
+        && ((faces >= c.min_faces && faces <= c.max_faces)
+            || (c.rescue && faces >= RESCUE_MIN_FACES * 2))
 }
 
 /// The rescue hierarchies (see [`CoarseToFine::rescue`]): levels down to pieces of about
@@ -69,8 +70,9 @@ const RESCUE_PROLONGATIONS: [Prolongation; 2] =
 /// start counts as one iteration (`theta_err` holds the input's error, then the start's), and
 /// the coarse levels are summarised in `messages`.
 ///
-/// The attempts, each only while nothing has converged: for a piece of at least `min_faces`
-/// the configured hierarchy, else the direct solve; then, with `rescue`, the two rescue
+/// The attempts, each only while nothing has converged: for a piece of `min_faces` to
+/// `max_faces` faces the configured hierarchy, else the direct solve (above `max_faces`, with
+/// `rescue`, the configured hierarchy next); then, with `rescue`, the two rescue
 /// hierarchies (deeper; displacement, then positions prolongation); last the direct solve if
 /// it has not run. A fine level gets [`FINE_LEVEL_BUDGET`] iterations to reach the tolerance;
 /// one cut off near θ = 2π ([`CRAWL_AT_RAD`]) moves the direct solve to the front of the
@@ -85,9 +87,17 @@ pub fn run(
     report: &mut PieceReport,
 ) -> Result<Vec<[f64; 3]>, FlattenableError> {
     let c2f = &opts.coarse_to_fine;
-    let direct_first = local.face_count() < c2f.min_faces;
+    let faces = local.face_count();
+    let direct_first = faces < c2f.min_faces || faces > c2f.max_faces;
     let mut attempts: Vec<Option<CoarseToFine>> = Vec::new();
     attempts.push((!direct_first).then(|| c2f.clone()));
+    if c2f.rescue && faces > c2f.max_faces {
+        // Above `max_faces` the configured hierarchy is a rescue too: the 100×100 saddle's
+        // direct solve stalls on ~1 in 6 inputs within one ulp of the grid, and that
+        // hierarchy converges them (docs/algorithms/flattenable.md, "Large pieces rescued
+        // by a hierarchy").
+        attempts.push(Some(c2f.clone()));
+    }
     if c2f.rescue {
         for prolongation in RESCUE_PROLONGATIONS {
             let h = CoarseToFine {

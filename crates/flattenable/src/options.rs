@@ -78,7 +78,8 @@ pub struct CoarseToFine {
     /// fewer faces are solved directly. Default 2 000 (measured in
     /// docs/algorithms/flattenable.md: below that the fine solve is already fast).
     pub min_faces: usize,
-    /// Pieces with more faces than this are solved directly. Default 15 000: measured to help
+    /// Pieces with more faces than this are solved directly first (with `rescue`, the
+    /// hierarchies follow if that does not converge). Default 15 000: measured to help
     /// from 2k to 10k faces (body pieces, grids); above, mixed — a 100k-face cap went from 283
     /// to 109 fine iterations, another 100k cap and the 19.6k one stalled from the
     /// prolongated start and fell back to the direct solve at twice its time
@@ -102,7 +103,8 @@ pub struct CoarseToFine {
     pub coarse_tolerance_rad: f64,
     /// When a piece does not converge, try two deeper hierarchies (levels down to ~300
     /// faces; displacement, then positions prolongation) before giving up, also for pieces
-    /// below `min_faces` (from 600 faces, after their direct solve). Default true: measured
+    /// below `min_faces` (from 600 faces, after their direct solve) and above `max_faces`
+    /// (after their direct solve, the configured hierarchy first). Default true: measured
     /// to make the saddle-like shoulder of mh_body_subdiv2 converge (30 fine iterations where
     /// the default hierarchy and the direct solve stall at 4–8e-3) and 14 instead of 11 of the
     /// 16 pieces of the noisy scan's wetsuit at 10 mm (docs/algorithms/flattenable.md).

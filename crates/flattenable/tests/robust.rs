@@ -251,17 +251,17 @@ fn large_grids_converge_without_folds() {
 /// The 100×100 saddle's long wandering phase (the excess angle migrating to the boundary)
 /// is path-sensitive: inputs within one ulp of the grid (every coordinate ×(1 + k·2.2e-16),
 /// k ∈ {−1, 0, 1} from a fixed xorshift sequence per seed) converge or stall near θ_err
-/// 1e-4 by the luck of their paths — 31 of 37 such inputs converged (seeds 7–43,
-/// docs/algorithms/flattenable.md, "The saddle harness's seeds were tuning seeds"). On the exact
-/// grid and seeds 1–6 more than half must converge (five do; any change of the paths draws
-/// again, so the bound is below the measured rate of about four in five), at least one through the
-/// second-order lift of nearly flat excess-angle vertices (without which such inputs stalled
-/// on a line of them), and every one that does not must stop with the clear error: its best
-/// θ_err, the saddle-like diagnosis, and an unfolded best state with the boundary in place
-/// (release only: ~40 s on two cores).
+/// 1e-4 by the luck of their paths — the direct solve converged on 37 of 44 such inputs
+/// (seeds 0–43). Above `max_faces` the coarse-to-fine hierarchy is now a rescue after the
+/// direct solve, and it converges the other seven (docs/algorithms/flattenable.md, "Large
+/// pieces rescued by a hierarchy"). On the exact grid and seeds 1–6 every input must
+/// converge unfolded, at least one through the second-order lift of nearly flat
+/// excess-angle vertices (without which such inputs stalled on a line of them) and at least
+/// one through the rescue (seeds 2 and 3 stall in the direct solve; release only: ~40 s on
+/// two cores).
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
-fn one_ulp_from_the_saddle_most_inputs_converge_and_the_rest_fail_cleanly() {
+fn one_ulp_from_the_saddle_every_input_converges_some_through_the_rescue() {
     let runs: Vec<(TriMesh, Result<Processed, FlattenableError>)> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..7u64)
             .map(|seed| {
@@ -275,38 +275,22 @@ fn one_ulp_from_the_saddle_most_inputs_converge_and_the_rest_fail_cleanly() {
             .collect();
         handles.into_iter().map(|h| h.join().unwrap()).collect()
     });
-    let mut converged = 0;
-    let mut lifted = 0;
+    let (mut lifted, mut rescued) = (0, 0);
     for (seed, (mesh, r)) in runs.iter().enumerate() {
-        match r {
-            Ok(r) => {
-                assert_flat_unfolded(mesh, r);
-                converged += 1;
-                let lifts = r.report.pieces[0]
-                    .messages
-                    .iter()
-                    .any(|m| m.contains("lifts"));
-                lifted += usize::from(lifts);
-            }
-            Err(FlattenableError::NotConverged {
-                best_theta_err,
-                reason,
-                partial,
-                ..
-            }) => {
-                assert!(
-                    *best_theta_err > 1e-9 && *best_theta_err < 1e-2,
-                    "seed {seed}: {best_theta_err}"
-                );
-                assert!(reason.contains("saddle-like"), "seed {seed}: {reason}");
-                assert_eq!(partial.report.folded_faces, 0, "seed {seed}");
-                assert_eq!(common::boundary_changed(mesh, &partial.mesh), 0);
-            }
-            Err(e) => panic!("seed {seed}: {e}"),
-        }
+        let r = r
+            .as_ref()
+            .unwrap_or_else(|e| panic!("seed {seed} did not converge: {e}"));
+        assert_flat_unfolded(mesh, r);
+        let messages = &r.report.pieces[0].messages;
+        lifted += usize::from(messages.iter().any(|m| m.contains("lifts")));
+        rescued += usize::from(
+            messages
+                .iter()
+                .any(|m| m.starts_with("the direct solve did not converge")),
+        );
     }
-    assert!(converged >= 4, "{converged} of 7 converged");
-    assert!(lifted >= 1, "no converged run used a lift");
+    assert!(lifted >= 1, "no run used a lift");
+    assert!(rescued >= 1, "no run needed the rescue");
 }
 
 /// The 160×160 cap of the bench's generator (alternating diagonals, 50k faces): at damping
