@@ -298,9 +298,9 @@ fn run_piece(
         report.messages.push(report.stop_reason.clone());
         local.positions.clone()
     } else if let Some(err) = input_theta_err.filter(|&e| e <= opts.tolerance_rad) {
-        // Nothing to do, and nothing a run could improve: any move adds displacement. (Run
-        // anyway, a flat sheet went through a coarse-to-fine hierarchy and a pull-back that
-        // was undone, and said so.)
+        // Nothing to do, and nothing a run could improve: any move adds displacement.
+        // (Before, a flat sheet went through a coarse-to-fine hierarchy and a pull-back that
+        // was undone, and its report said so.)
         report.converged = true;
         report.theta_err.push(err);
         report.stop_reason = format!(
