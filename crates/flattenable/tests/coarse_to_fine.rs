@@ -389,3 +389,44 @@ fn an_abandoned_hierarchy_is_not_solved_twice() {
     // Neither hierarchy beat the direct solve, so the returned surface is its best state.
     assert_eq!(with.mesh.positions, without.mesh.positions);
 }
+
+/// Above `max_faces` the direct solve runs first; when it does not converge, the configured
+/// hierarchy (then the rescue ones) follows, as below `min_faces` (the 100×100 saddle's
+/// stalled one-ulp inputs converge that way: docs/algorithms/flattenable.md, "Large pieces
+/// rescued by a hierarchy"). Here a 50×50 saddle counts as large (`max_faces` 2 000) and the
+/// direct solve is cut by the iteration limit; with the rescue off the same run fails.
+#[test]
+fn above_max_faces_a_failed_direct_solve_is_rescued_by_the_hierarchy() {
+    let saddle = common::saddle(50);
+    let opts = |rescue| ProcessOptions {
+        target: Target::Zero,
+        max_iterations: Some(40),
+        coarse_to_fine: CoarseToFine {
+            max_faces: 2_000,
+            rescue,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let without = process(&saddle, &opts(false));
+    let Err(flatcut_flattenable::FlattenableError::NotConverged { partial, .. }) = without else {
+        panic!("the direct solve converged within 40 iterations: {without:?}");
+    };
+    assert!(
+        !partial.report.pieces[0]
+            .messages
+            .iter()
+            .any(|m| m.contains("coarse-to-fine"))
+    );
+    let with = process(&saddle, &opts(true)).unwrap();
+    let messages = &with.report.pieces[0].messages;
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.starts_with("the direct solve did not converge")),
+        "{messages:?}"
+    );
+    assert!(with.report.final_theta_err <= 1e-9);
+    assert_eq!(with.report.folded_faces, 0);
+    assert_eq!(common::boundary_changed(&saddle, &with.mesh), 0);
+}
