@@ -147,16 +147,22 @@ impl Piece {
         })
     }
 
-    /// Fills the measured fields of a report for the final `positions`.
-    pub fn measure(&self, positions: &[[f64; 3]], report: &mut PieceReport) {
+    /// θ at every interior vertex of the input.
+    pub fn input_theta(&self) -> Vec<f64> {
+        let mut theta = vec![0.0; self.layout.n()];
+        self.layout.theta(&self.pos0, &self.faces, &mut theta);
+        theta
+    }
+
+    /// Fills the measured fields of a report for the final `positions`; `theta0` is
+    /// [`Piece::input_theta`].
+    pub fn measure(&self, positions: &[[f64; 3]], theta0: &[f64], report: &mut PieceReport) {
         let mut theta = vec![0.0; self.layout.n()];
         self.layout.theta(positions, &self.faces, &mut theta);
         let (err, sq) = Self::errors(&theta);
         let n = self.layout.n();
         report.final_theta_err = err;
         report.final_theta_rms = if n > 0 { (sq / n as f64).sqrt() } else { 0.0 };
-        let mut theta0 = vec![0.0; n];
-        self.layout.theta(&self.pos0, &self.faces, &mut theta0);
         report.input_total_defect_rad = theta0.iter().map(|t| TAU - t).sum();
         let (mut max_d, mut sum_d2) = (0.0f64, 0.0);
         for &p in &self.layout.interior {

@@ -286,11 +286,11 @@ fn run_piece(
         boundary_loops: piece.topo.boundary_loops().len(),
         ..Default::default()
     };
-    let input_theta_err = (opts.mode == Mode::Robust && piece.layout.n() > 0).then(|| {
-        let mut theta = vec![0.0; piece.layout.n()];
-        piece.layout.theta(&piece.pos0, &piece.faces, &mut theta);
-        Piece::errors(&theta).0
-    });
+    // θ of the input, once: the already-flattenable test, the report and the roughness
+    // diagnosis all read it.
+    let theta0 = piece.input_theta();
+    let input_theta_err =
+        (opts.mode == Mode::Robust && piece.layout.n() > 0).then(|| Piece::errors(&theta0).0);
     let positions = if piece.layout.n() == 0 {
         report.converged = true;
         report.theta_err.push(0.0);
@@ -318,8 +318,8 @@ fn run_piece(
             Mode::Robust => robust::run(&piece, opts, &mut report).positions,
         }
     };
-    piece.measure(&positions, &mut report);
-    let roughness = (!report.converged).then(|| median_abs_defect(&piece));
+    piece.measure(&positions, &theta0, &mut report);
+    let roughness = (!report.converged).then(|| median_abs_defect(&theta0));
     if let Some(median) = roughness.filter(|&m| m > ROUGH_MEDIAN_DEFECT_RAD) {
         let hint = format!(
             "the surface is rough: the median |2π − θ| of its interior vertices is {median:.3} rad (smooth surfaces at a working resolution: below 0.05), i.e. scan noise, and its total angle defect ({:.3} rad) is mostly the noise's; smooth the scan or remesh it coarser before processing",
@@ -349,11 +349,9 @@ fn run_piece(
     Ok((positions, piece.vertex_map, report))
 }
 
-/// Median |2π − θ| over the interior vertices of the piece's input.
-fn median_abs_defect(piece: &Piece) -> f64 {
-    let mut theta = vec![0.0; piece.layout.n()];
-    piece.layout.theta(&piece.pos0, &piece.faces, &mut theta);
-    let mut d: Vec<f64> = theta
+/// Median |2π − θ| over the interior vertices of the piece's input (`theta0`).
+fn median_abs_defect(theta0: &[f64]) -> f64 {
+    let mut d: Vec<f64> = theta0
         .iter()
         .map(|t| (std::f64::consts::TAU - t).abs())
         .collect();
