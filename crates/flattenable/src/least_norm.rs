@@ -28,7 +28,10 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use flatcut_mesh::{INVALID, Topology, VertexId};
 
-use crate::angle_gradient::{corner_angle_gradient, corner_gradient};
+use flatcut_mesh::atan2::atan2_upper_half;
+use flatcut_mesh::vec3::{cross, dot, norm, sub};
+
+use crate::angle_gradient::corner_gradient;
 
 /// Per-piece sparse structure of A and A G Aᵀ with its symbolic factorisation.
 pub struct Layout {
@@ -410,18 +413,8 @@ impl Layout {
         theta: &mut [f64],
         grad: &mut [[f64; 3]],
     ) {
-        grad.iter_mut().for_each(|g| *g = [0.0; 3]);
-        for (i, &centre) in self.interior.iter().enumerate() {
-            let p = positions[centre as usize];
-            let mut t = 0.0;
-            for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-                let [a, b] = self.corner_ends(k, positions, faces);
-                let (alpha, g) = corner_angle_gradient(p, a, b);
-                t += alpha;
-                self.scatter(k, g, grad);
-            }
-            theta[i] = t;
-        }
+        self.gradient(positions, faces, grad);
+        self.theta(positions, faces, theta);
     }
 
     /// The two other points (next, previous) of corner `k`, whose centre is its interior
@@ -463,25 +456,61 @@ impl Layout {
         }
     }
 
-    /// θ at every interior vertex only (for trial points).
+    /// θ at every interior vertex only (for trial points). The corners go in blocks: their
+    /// (|u × w|, u · w) first, then their angles in a loop without branches, which
+    /// vectorises (atan2 one corner at a time was a fifth of a 3.5k-face run), then the sums
+    /// in corner order: the same sums as [`Layout::theta_at`], bit for bit.
     pub fn theta(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], theta: &mut [f64]) {
-        for i in 0..self.n() {
-            theta[i] = self.theta_at(i, positions, faces);
+        const BLOCK: usize = 256;
+        let mut sine = [0.0f64; BLOCK];
+        let mut cosine = [0.0f64; BLOCK];
+        let corners = self.corner_halfedge.len();
+        let mut vertex = 0usize;
+        let mut sum = 0.0;
+        for start in (0..corners).step_by(BLOCK) {
+            let len = BLOCK.min(corners - start);
+            for j in 0..len {
+                (sine[j], cosine[j]) = self.corner_sin_cos(start + j, positions, faces);
+            }
+            for (s, c) in sine[..len].iter_mut().zip(&cosine[..len]) {
+                *s = atan2_upper_half(*s, *c);
+            }
+            for (j, alpha) in sine[..len].iter().enumerate() {
+                while start + j >= self.corner_ptr[vertex + 1] {
+                    theta[vertex] = sum;
+                    sum = 0.0;
+                    vertex += 1;
+                }
+                sum += alpha;
+            }
+        }
+        for t in &mut theta[vertex..self.n()] {
+            *t = sum;
+            sum = 0.0;
         }
     }
 
     /// θ at interior vertex `i` only (its star's corners).
     pub fn theta_at(&self, i: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> f64 {
-        let p = positions[self.interior[i] as usize];
         let mut t = 0.0;
         for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-            let [a, b] = self.corner_ends(k, positions, faces);
-            t += flatcut_mesh::vec3::angle(
-                flatcut_mesh::vec3::sub(a, p),
-                flatcut_mesh::vec3::sub(b, p),
-            );
+            let (sine, cosine) = self.corner_sin_cos(k, positions, faces);
+            t += atan2_upper_half(sine, cosine);
         }
         t
+    }
+
+    /// Corner `k`'s (|u × w|, u · w), u and w its edges from its centre: the angle's
+    /// atan2 arguments, as in [`flatcut_mesh::vec3::angle`].
+    #[inline]
+    fn corner_sin_cos(&self, k: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> (f64, f64) {
+        let h = self.corner_halfedge[k];
+        let f = faces[Topology::face(h).idx()];
+        let kk = (h % 3) as usize;
+        let p = positions[f[kk] as usize];
+        let u = sub(positions[f[(kk + 1) % 3] as usize], p);
+        let w = sub(positions[f[(kk + 2) % 3] as usize], p);
+        (norm(cross(u, w)), dot(u, w))
     }
 
     /// Lower values of A G Aᵀ (without shift) into `values` (length [`Layout::normal_nnz`]).

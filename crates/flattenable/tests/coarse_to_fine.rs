@@ -277,15 +277,17 @@ fn a_crawling_fine_level_gives_way_to_the_direct_solve() {
     let [first, second, ..] = p.messages.as_slice() else {
         panic!("{:?}", p.messages)
     };
-    // "coarse-to-fine did not converge (best θ_err 2.6e-7 in 61 iterations)": the budget
-    // (60 iterations and the start) cut it near θ = 2π.
+    // "coarse-to-fine did not converge (best θ_err 2.4e-7 in 62 iterations)": the budget
+    // (60 iterations, the start and any lift of nearly flat vertices) cut it near θ = 2π,
+    // long before the stall test would have (100 iterations without a 10 % gain).
     assert!(
         first.starts_with("coarse-to-fine did not converge"),
         "{first}"
     );
     let best = number_after(first, "best θ_err ", ' ');
     assert!(best < 1e-4 && best > 1e-9, "{first}");
-    assert!(first.ends_with("in 61 iterations)"), "{first}");
+    let iterations = number_after(first, " in ", ' ');
+    assert!((61.0..=64.0).contains(&iterations), "{first}");
     assert_eq!(second, "solved again from the input");
     assert!(
         p.messages.iter().all(|m| !m.contains("rescue")),

@@ -203,6 +203,45 @@ fn gradient_alone_equals_the_evaluated_one_bit_for_bit() {
 }
 
 #[test]
+fn theta_in_blocks_equals_the_sum_of_corner_angles() {
+    // `Layout::theta` takes the corners in blocks of 256 and their angles in a vectorised
+    // loop; `theta_at` one vertex at a time. They must agree to the bit (the lift and the
+    // local polish mix them), across block boundaries, and agree with the angle sums of the
+    // mesh crate and with a sum of the platform's atan2 (an independent angle function).
+    let mut mesh = common::saddle(30);
+    for (i, p) in mesh.positions.iter_mut().enumerate() {
+        p[2] += 0.01 * ((i * 7919 % 13) as f64 / 13.0 - 0.5);
+    }
+    let topo = Topology::build(&mesh).unwrap();
+    let layout = Layout::build(&topo, &mesh.faces).unwrap();
+    let mut theta = vec![f64::NAN; layout.n()];
+    layout.theta(&mesh.positions, &mesh.faces, &mut theta);
+    assert!(6 * layout.n() > 10 * 256, "the corners span several blocks");
+    let sums = flatcut_mesh::geometry::angle_sums(&mesh.positions, &mesh.faces);
+    let mut platform = vec![0.0; mesh.vertex_count()];
+    for f in &mesh.faces {
+        for k in 0..3 {
+            let p = mesh.positions[f[k] as usize];
+            let u = flatcut_mesh::vec3::sub(mesh.positions[f[(k + 1) % 3] as usize], p);
+            let w = flatcut_mesh::vec3::sub(mesh.positions[f[(k + 2) % 3] as usize], p);
+            let c = flatcut_mesh::vec3::cross(u, w);
+            platform[f[k] as usize] +=
+                flatcut_mesh::vec3::norm(c).atan2(flatcut_mesh::vec3::dot(u, w));
+        }
+    }
+    for (i, &t) in theta.iter().enumerate() {
+        assert_eq!(
+            t.to_bits(),
+            layout.theta_at(i, &mesh.positions, &mesh.faces).to_bits()
+        );
+        let v = layout.interior[i] as usize;
+        assert!((t - sums[v]).abs() <= 1e-14, "{t} vs {}", sums[v]);
+        assert!((t - platform[v]).abs() <= 1e-14, "{t} vs {}", platform[v]);
+        assert!((t - TAU).abs() < 0.5, "a saddle vertex: θ near 2π, got {t}");
+    }
+}
+
+#[test]
 fn refactor_reuses_buffers_and_recovers_after_a_failed_factorisation() {
     let (layout, theta, grad) = setup(&common::sphere_cap(8));
     // A Aᵀ through the unit metric; b = 2π − θ.

@@ -5,6 +5,7 @@
 //! weights; [`bvh`] answers closest-point and ray queries; [`clean`] repairs scans;
 //! [`shapes`] makes the procedural surfaces tests and the demo run on.
 
+pub mod atan2;
 pub mod bvh;
 pub mod clean;
 mod error;

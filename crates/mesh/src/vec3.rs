@@ -63,8 +63,9 @@ pub fn point_segment_distance(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     dist(p, add(a, scale(d, t)))
 }
 /// The angle between a and b in radians, in the stable atan2 form
-/// (|a × b|, a · b), exact near 0 and π where acos is not.
+/// (|a × b|, a · b), exact near 0 and π where acos is not; the atan2 is
+/// [`crate::atan2::atan2_upper_half`] (within 2 ulp, the same bits on every platform).
 #[inline]
 pub fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
-    norm(cross(a, b)).atan2(dot(a, b))
+    crate::atan2::atan2_upper_half(norm(cross(a, b)), dot(a, b))
 }
