@@ -717,9 +717,13 @@ fn speed() {
         for target in [Target::Detail, Target::Zero] {
             // Experiment knobs: those of `c2f_from_env` (C2F_LEVELS=0 = direct solve, C2F_MAX,
             // C2F_CTOL, C2F_RESCUE=0, PROLONG=positions, …).
+            // MAXIT=0: the piece's set-up alone (topology, layout, AMD, symbolic
+            // factorisation, θ at the input, the report's measures), to split a run's time
+            // into set-up and steps.
             let opts = ProcessOptions {
                 target,
                 coarse_to_fine: c2f_from_env(),
+                max_iterations: std::env::var("MAXIT").ok().and_then(|s| s.parse().ok()),
                 ..Default::default()
             };
             match std::env::var("ONLY_TARGET").as_deref() {
