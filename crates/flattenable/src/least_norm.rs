@@ -465,6 +465,7 @@ impl Layout {
         let mut sine = [0.0f64; BLOCK];
         let mut cosine = [0.0f64; BLOCK];
         let corners = self.corner_halfedge.len();
+        let arch = pulp::Arch::new();
         let mut vertex = 0usize;
         let mut sum = 0.0;
         for start in (0..corners).step_by(BLOCK) {
@@ -474,7 +475,7 @@ impl Layout {
             }
             // Compiled for the widest vectors the CPU has (4 lanes with AVX2 where the
             // baseline x86-64 build has 2): the same operations, so the same bits.
-            pulp::Arch::new().dispatch(|| {
+            arch.dispatch(|| {
                 for (s, c) in sine[..len].iter_mut().zip(&cosine[..len]) {
                     *s = atan2_upper_half(*s, *c);
                 }

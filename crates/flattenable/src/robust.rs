@@ -701,13 +701,12 @@ fn run_inner(
                             cand[p as usize][k] += dc[i][k];
                         }
                     }
-                    if piece.folded_faces(&cand) > 0 {
-                        break;
-                    }
                     let mut cand_theta = vec![0.0; n];
                     layout.theta(&cand, &piece.faces, &mut cand_theta);
                     let f_cand = Piece::merit(&cand_theta, dead_zone).1;
-                    if f_cand.is_nan() || f_cand >= 0.5 * f_trial {
+                    // The fold guard only for a correction the merit would keep (about half
+                    // of them are not).
+                    if f_cand.is_nan() || f_cand >= 0.5 * f_trial || piece.folded_faces(&cand) > 0 {
                         break;
                     }
                     trial = cand;
