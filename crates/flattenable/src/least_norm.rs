@@ -29,7 +29,7 @@ use faer::{Conj, MatMut, Par, Side};
 use flatcut_mesh::{INVALID, Topology, VertexId};
 
 use flatcut_mesh::atan2::atan2_upper_half;
-use flatcut_mesh::vec3::{cross, dot, norm, sub};
+use flatcut_mesh::vec3::{angle, cross, dot, norm, sub};
 
 use crate::angle_gradient::corner_gradient;
 
@@ -417,14 +417,15 @@ impl Layout {
         self.theta(positions, faces, theta);
     }
 
-    /// The two other points (next, previous) of corner `k`, whose centre is its interior
-    /// vertex.
+    /// Corner `k`'s points: its centre (the interior vertex), then the next and previous
+    /// points of its face.
     #[inline]
-    fn corner_ends(&self, k: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> [[f64; 3]; 2] {
+    fn corner_points(&self, k: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> [[f64; 3]; 3] {
         let h = self.corner_halfedge[k];
         let f = faces[Topology::face(h).idx()];
         let kk = (h % 3) as usize;
         [
+            positions[f[kk] as usize],
             positions[f[(kk + 1) % 3] as usize],
             positions[f[(kk + 2) % 3] as usize],
         ]
@@ -443,16 +444,12 @@ impl Layout {
         }
     }
 
-    /// The entries of A alone, for positions whose θ is already known (an accepted trial):
-    /// the same values as [`Layout::evaluate`] without its atan2 per corner.
+    /// The entries of A alone, for positions whose θ is already known (an accepted trial).
     pub fn gradient(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], grad: &mut [[f64; 3]]) {
         grad.iter_mut().for_each(|g| *g = [0.0; 3]);
-        for (i, &centre) in self.interior.iter().enumerate() {
-            let p = positions[centre as usize];
-            for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-                let [a, b] = self.corner_ends(k, positions, faces);
-                self.scatter(k, corner_gradient(p, a, b), grad);
-            }
+        for k in 0..self.corner_halfedge.len() {
+            let [p, a, b] = self.corner_points(k, positions, faces);
+            self.scatter(k, corner_gradient(p, a, b), grad);
         }
     }
 
@@ -499,22 +496,19 @@ impl Layout {
     pub fn theta_at(&self, i: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> f64 {
         let mut t = 0.0;
         for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-            let (sine, cosine) = self.corner_sin_cos(k, positions, faces);
-            t += atan2_upper_half(sine, cosine);
+            let [p, a, b] = self.corner_points(k, positions, faces);
+            t += angle(sub(a, p), sub(b, p));
         }
         t
     }
 
-    /// Corner `k`'s (|u × w|, u · w), u and w its edges from its centre: the angle's
-    /// atan2 arguments, as in [`flatcut_mesh::vec3::angle`].
+    /// Corner `k`'s (|u × w|, u · w), u and w its edges from its centre: the atan2
+    /// arguments of [`flatcut_mesh::vec3::angle`], split off so that [`Layout::theta`] can
+    /// take the atan2s of a block in one loop.
     #[inline]
     fn corner_sin_cos(&self, k: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> (f64, f64) {
-        let h = self.corner_halfedge[k];
-        let f = faces[Topology::face(h).idx()];
-        let kk = (h % 3) as usize;
-        let p = positions[f[kk] as usize];
-        let u = sub(positions[f[(kk + 1) % 3] as usize], p);
-        let w = sub(positions[f[(kk + 2) % 3] as usize], p);
+        let [p, a, b] = self.corner_points(k, positions, faces);
+        let (u, w) = (sub(a, p), sub(b, p));
         (norm(cross(u, w)), dot(u, w))
     }
 
