@@ -252,13 +252,14 @@ fn large_grids_converge_without_folds() {
 /// is path-sensitive: inputs within one ulp of the grid (every coordinate ×(1 + k·2.2e-16),
 /// k ∈ {−1, 0, 1} from a fixed xorshift sequence per seed) converge or stall near θ_err
 /// 1e-4 by the luck of their paths — the direct solve converged on 37 of 44 such inputs
-/// (seeds 0–43). Above `max_faces` the coarse-to-fine hierarchy is now a rescue after the
-/// direct solve, and it converges the other seven (docs/algorithms/flattenable.md, "Large
-/// pieces rescued by a hierarchy"). On the exact grid and seeds 1–6 every input must
+/// (seeds 0–43, ninth session). Above `max_faces` the coarse-to-fine hierarchy is now a
+/// rescue after the direct solve, and it converges the others (docs/algorithms/flattenable.md,
+/// "Large pieces rescued by a hierarchy"). On the exact grid and seeds 1–6 every input must
 /// converge unfolded, at least one through the second-order lift of nearly flat
 /// excess-angle vertices (without which such inputs stalled on a line of them) and at least
-/// one through the rescue (seeds 2 and 3 stall in the direct solve; release only: ~40 s on
-/// two cores).
+/// one through the rescue (which seeds stall in the direct solve depends on round-off: 2 and
+/// 3 with the system atan2, others since the tenth session's polynomial one; release only:
+/// ~40 s on two cores).
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
 fn one_ulp_from_the_saddle_every_input_converges_some_through_the_rescue() {
