@@ -186,16 +186,23 @@ fn weighted_vertices_take_a_smaller_share_of_the_step() {
     assert!(w < p, "{w} vs {p}");
 }
 
+/// The n×n saddle with its heights jittered by up to ±0.005 (a fixed pattern): no two
+/// stars alike, so that mix-ups of rows, corners or blocks show.
+fn rough_saddle(n: usize) -> flatcut_mesh::TriMesh {
+    let mut mesh = common::saddle(n);
+    for (i, p) in mesh.positions.iter_mut().enumerate() {
+        p[2] += 0.01 * ((i * 7919 % 13) as f64 / 13.0 - 0.5);
+    }
+    mesh
+}
+
 #[test]
 fn rows_of_a_equal_the_per_vertex_gradient() {
     // A's rows come from corners scattered into a CSR pattern (`Layout::gradient`); each
     // must equal the gradient of that vertex's θ built independently from its one-ring
     // (`angle_sum_gradient`, checked against central differences in tests/angle_gradient.rs),
     // with the boundary columns dropped.
-    let mut mesh = common::saddle(9);
-    for (i, p) in mesh.positions.iter_mut().enumerate() {
-        p[2] += 0.01 * ((i * 7919 % 13) as f64 / 13.0 - 0.5);
-    }
+    let mesh = rough_saddle(9);
     let topo = Topology::build(&mesh).unwrap();
     let (layout, theta, grad) = setup(&mesh);
     let mut alone = vec![[1.0; 3]; layout.entries()];
@@ -246,10 +253,7 @@ fn theta_in_blocks_equals_the_sum_of_corner_angles() {
     // loop; `theta_at` one vertex at a time. They must agree to the bit (the lift and the
     // local polish mix them), across block boundaries, and agree with the angle sums of the
     // mesh crate and with a sum of the platform's atan2 (an independent angle function).
-    let mut mesh = common::saddle(30);
-    for (i, p) in mesh.positions.iter_mut().enumerate() {
-        p[2] += 0.01 * ((i * 7919 % 13) as f64 / 13.0 - 0.5);
-    }
+    let mesh = rough_saddle(30);
     let topo = Topology::build(&mesh).unwrap();
     let layout = Layout::build(&topo, &mesh.faces).unwrap();
     let mut theta = vec![f64::NAN; layout.n()];
