@@ -25,18 +25,24 @@ pub fn corner_angle_gradient(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> (f64, [[f
 /// expensive part): for points where θ is already known.
 #[inline]
 pub fn corner_gradient(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> [[f64; 3]; 3] {
-    let u = sub(a, p);
-    let w = sub(b, p);
+    let [ga, gb] = corner_gradient_next_previous(sub(a, p), sub(b, p));
+    let gp = [-(ga[0] + gb[0]), -(ga[1] + gb[1]), -(ga[2] + gb[2])];
+    [gp, ga, gb]
+}
+
+/// ∂α/∂a and ∂α/∂b of a corner from its edges u = a − p and w = b − p (∂α/∂p is minus
+/// their sum). Without branches, so that a loop over many corners vectorises: a degenerate
+/// corner's values are computed and then replaced by zeros.
+#[inline(always)]
+pub fn corner_gradient_next_previous(u: [f64; 3], w: [f64; 3]) -> [[f64; 3]; 2] {
     let c = cross(u, w);
     let cn2 = norm2(c);
-    if cn2 <= 0.0 || !cn2.is_finite() {
-        return [[0.0; 3]; 3];
-    }
     let n = scale(c, 1.0 / cn2.sqrt());
     let ga = scale(cross(n, u), -1.0 / dot(u, u));
     let gb = scale(cross(w, n), -1.0 / dot(w, w));
-    let gp = [-(ga[0] + gb[0]), -(ga[1] + gb[1]), -(ga[2] + gb[2])];
-    [gp, ga, gb]
+    let defined = cn2 > 0.0 && cn2.is_finite();
+    let pick = |g: [f64; 3]| if defined { g } else { [0.0; 3] };
+    [pick(ga), pick(gb)]
 }
 
 /// θ(v) and its gradient: `(θ, [(vertex, ∂θ/∂vertex)])`, the first entry being `v` itself

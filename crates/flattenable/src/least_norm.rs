@@ -28,10 +28,9 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use flatcut_mesh::{INVALID, Topology, VertexId};
 
-use flatcut_mesh::atan2::atan2_upper_half;
-use flatcut_mesh::vec3::{angle, cross, dot, norm, sub};
+use flatcut_mesh::vec3::{angle, sub};
 
-use crate::angle_gradient::corner_gradient;
+use crate::angle_gradient::corner_gradient_next_previous;
 
 /// Per-piece sparse structure of A and A G Aᵀ with its symbolic factorisation.
 pub struct Layout {
@@ -192,6 +191,52 @@ pub enum FactorError {
     NotPositiveDefinite,
     /// Out of memory or another faer failure.
     Other(String),
+}
+
+/// The angles of a block of corners from their edges (x, y, z rows of u and w): the loop of
+/// [`Layout::theta`], run by `pulp` inside a function compiled for the CPU's widest vectors.
+/// (A closure given to `Arch::dispatch` is not inlined there and stays at the baseline
+/// width; `with_simd` is, and so is everything it calls.)
+struct CornerAngles<'a, const B: usize> {
+    u: &'a [[f64; B]; 3],
+    w: &'a [[f64; B]; 3],
+    alpha: &'a mut [f64],
+}
+
+impl<const B: usize> pulp::WithSimd for CornerAngles<'_, B> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let (u, w) = (self.u, self.w);
+        for (j, a) in self.alpha.iter_mut().enumerate() {
+            *a = angle([u[0][j], u[1][j], u[2][j]], [w[0][j], w[1][j], w[2][j]]);
+        }
+    }
+}
+
+/// The gradients of a block of corners with respect to their next and previous points,
+/// written over their edges u and w: the loop of [`Layout::gradient`], dispatched as
+/// [`CornerAngles`].
+struct CornerGradients<'a, const B: usize> {
+    u: &'a mut [[f64; B]; 3],
+    w: &'a mut [[f64; B]; 3],
+    len: usize,
+}
+
+impl<const B: usize> pulp::WithSimd for CornerGradients<'_, B> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let ([ux, uy, uz], [wx, wy, wz]) = (self.u, self.w);
+        for j in 0..self.len {
+            let [ga, gb] =
+                corner_gradient_next_previous([ux[j], uy[j], uz[j]], [wx[j], wy[j], wz[j]]);
+            [ux[j], uy[j], uz[j]] = ga;
+            [wx[j], wy[j], wz[j]] = gb;
+        }
+    }
 }
 
 impl Layout {
@@ -445,39 +490,62 @@ impl Layout {
     }
 
     /// The entries of A alone, for positions whose θ is already known (an accepted trial).
+    /// The corners go in blocks, as in [`Layout::theta`]: their edges first, then the
+    /// arithmetic of [`crate::angle_gradient::corner_gradient`] in a loop without branches,
+    /// which vectorises (this was a seventh of a 3.5k-face run), then the scatter in corner
+    /// order — the same operations in the same order as one `corner_gradient` per corner,
+    /// so the same bits (tested against `angle_sum_gradient`).
     pub fn gradient(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], grad: &mut [[f64; 3]]) {
+        const BLOCK: usize = 256;
+        // Per corner of a block: the edges u, w from its centre (x, y, z each), overwritten
+        // by the gradients with respect to the corner's next and previous points.
+        let mut u = [[0.0f64; BLOCK]; 3];
+        let mut w = [[0.0f64; BLOCK]; 3];
         grad.iter_mut().for_each(|g| *g = [0.0; 3]);
-        for k in 0..self.corner_halfedge.len() {
-            let [p, a, b] = self.corner_points(k, positions, faces);
-            self.scatter(k, corner_gradient(p, a, b), grad);
+        let corners = self.corner_halfedge.len();
+        let arch = pulp::Arch::new();
+        for start in (0..corners).step_by(BLOCK) {
+            let len = BLOCK.min(corners - start);
+            self.gather_edges(start, len, positions, faces, &mut u, &mut w);
+            arch.dispatch(CornerGradients {
+                u: &mut u,
+                w: &mut w,
+                len,
+            });
+            for j in 0..len {
+                let ga = [u[0][j], u[1][j], u[2][j]];
+                let gb = [w[0][j], w[1][j], w[2][j]];
+                let gp = [-(ga[0] + gb[0]), -(ga[1] + gb[1]), -(ga[2] + gb[2])];
+                self.scatter(start + j, [gp, ga, gb], grad);
+            }
         }
     }
 
     /// θ at every interior vertex only (for trial points). The corners go in blocks: their
-    /// (|u × w|, u · w) first, then their angles in a loop without branches, which
-    /// vectorises (atan2 one corner at a time was a fifth of a 3.5k-face run), then the sums
-    /// in corner order: the same sums as [`Layout::theta_at`], bit for bit.
+    /// edges u, w from the centre first, then their angles `vec3::angle(u, w)` in a loop
+    /// without branches, which vectorises (atan2 one corner at a time was a fifth of a
+    /// 3.5k-face run), then the sums in corner order: the same sums as
+    /// [`Layout::theta_at`], bit for bit.
     pub fn theta(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], theta: &mut [f64]) {
         const BLOCK: usize = 256;
-        let mut sine = [0.0f64; BLOCK];
-        let mut cosine = [0.0f64; BLOCK];
+        let mut u = [[0.0f64; BLOCK]; 3];
+        let mut w = [[0.0f64; BLOCK]; 3];
+        let mut alpha = [0.0f64; BLOCK];
         let corners = self.corner_halfedge.len();
         let arch = pulp::Arch::new();
         let mut vertex = 0usize;
         let mut sum = 0.0;
         for start in (0..corners).step_by(BLOCK) {
             let len = BLOCK.min(corners - start);
-            for j in 0..len {
-                (sine[j], cosine[j]) = self.corner_sin_cos(start + j, positions, faces);
-            }
+            self.gather_edges(start, len, positions, faces, &mut u, &mut w);
             // Compiled for the widest vectors the CPU has (4 lanes with AVX2 where the
             // baseline x86-64 build has 2): the same operations, so the same bits.
-            arch.dispatch(|| {
-                for (s, c) in sine[..len].iter_mut().zip(&cosine[..len]) {
-                    *s = atan2_upper_half(*s, *c);
-                }
+            arch.dispatch(CornerAngles {
+                u: &u,
+                w: &w,
+                alpha: &mut alpha[..len],
             });
-            for (j, alpha) in sine[..len].iter().enumerate() {
+            for (j, alpha) in alpha[..len].iter().enumerate() {
                 while start + j >= self.corner_ptr[vertex + 1] {
                     theta[vertex] = sum;
                     sum = 0.0;
@@ -492,6 +560,29 @@ impl Layout {
         }
     }
 
+    /// The edges u = a − p and w = b − p of corners `start..start + len`, coordinate by
+    /// coordinate (the gather ahead of [`Layout::theta`]'s and [`Layout::gradient`]'s block
+    /// loops).
+    #[inline]
+    fn gather_edges<const B: usize>(
+        &self,
+        start: usize,
+        len: usize,
+        positions: &[[f64; 3]],
+        faces: &[[u32; 3]],
+        u: &mut [[f64; B]; 3],
+        w: &mut [[f64; B]; 3],
+    ) {
+        for j in 0..len {
+            let [p, a, b] = self.corner_points(start + j, positions, faces);
+            let (uj, wj) = (sub(a, p), sub(b, p));
+            for c in 0..3 {
+                u[c][j] = uj[c];
+                w[c][j] = wj[c];
+            }
+        }
+    }
+
     /// θ at interior vertex `i` only (its star's corners).
     pub fn theta_at(&self, i: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> f64 {
         let mut t = 0.0;
@@ -500,16 +591,6 @@ impl Layout {
             t += angle(sub(a, p), sub(b, p));
         }
         t
-    }
-
-    /// Corner `k`'s (|u × w|, u · w), u and w its edges from its centre: the atan2
-    /// arguments of [`flatcut_mesh::vec3::angle`], split off so that [`Layout::theta`] can
-    /// take the atan2s of a block in one loop.
-    #[inline]
-    fn corner_sin_cos(&self, k: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> (f64, f64) {
-        let [p, a, b] = self.corner_points(k, positions, faces);
-        let (u, w) = (sub(a, p), sub(b, p));
-        (norm(cross(u, w)), dot(u, w))
     }
 
     /// Lower values of A G Aᵀ (without shift) into `values` (length [`Layout::normal_nnz`]).

@@ -40,6 +40,39 @@ struct Guard {
     cos_limit: Vec<[f64; 3]>,
 }
 
+/// The fold test of a block of faces (their points coordinate by coordinate, their input
+/// normals and corner limits): the loop of [`Piece::offending_faces`], run by `pulp` in a
+/// function compiled for the CPU's widest vectors (see `least_norm::CornerAngles`).
+struct FoldTests<'a, const B: usize> {
+    points: &'a [[[f64; B]; 3]; 3],
+    normals0: &'a [[f64; 3]],
+    cos_limit: &'a [[f64; 3]],
+    folded: &'a mut [bool],
+}
+
+impl<const B: usize> pulp::WithSimd for FoldTests<'_, B> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let points = self.points;
+        for (j, folded) in self.folded.iter_mut().enumerate() {
+            let p = [0, 1, 2].map(|k| [points[k][0][j], points[k][1][j], points[k][2][j]]);
+            let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+            let mut out_of_bounds = dot(n, self.normals0[j]) <= 0.0;
+            // Corner k below its limit ⇔ cos(corner) > cos(limit) (cos falls on [0, π]); a
+            // zero-length edge gives NaN and counts as folded.
+            for k in 0..3 {
+                let u = sub(p[(k + 1) % 3], p[k]);
+                let w = sub(p[(k + 2) % 3], p[k]);
+                let c = dot(u, w) / (dot(u, u) * dot(w, w)).sqrt();
+                out_of_bounds |= c.is_nan() | (c > self.cos_limit[j][k]);
+            }
+            *folded = out_of_bounds;
+        }
+    }
+}
+
 impl Piece {
     /// Prepares a piece from its local mesh (validated by the caller). `weights_local`
     /// gives w per local vertex.
@@ -83,35 +116,37 @@ impl Piece {
         self.offending_faces(positions).len()
     }
 
-    /// The folded faces at `positions` (every face if a position is not finite).
+    /// The folded faces at `positions` (every face if a position is not finite). The faces
+    /// go in blocks: their corners gathered first, then the tests in a loop without branches,
+    /// which vectorises (the guard runs on every trial and correction).
     pub fn offending_faces(&self, positions: &[[f64; 3]]) -> Vec<usize> {
+        const BLOCK: usize = 256;
         if positions.iter().flatten().any(|c| !c.is_finite()) {
             return (0..self.faces.len()).collect();
         }
-        self.faces
-            .iter()
-            .enumerate()
-            .filter(|(f, face)| {
-                let p = [
-                    positions[face[0] as usize],
-                    positions[face[1] as usize],
-                    positions[face[2] as usize],
-                ];
-                let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
-                if dot(n, self.guard.normals0[*f]) <= 0.0 {
-                    return true;
+        // Per face of a block: its three points, coordinate by coordinate.
+        let mut points = [[[0.0f64; BLOCK]; 3]; 3];
+        let mut folded = [false; BLOCK];
+        let mut out = Vec::new();
+        let arch = pulp::Arch::new();
+        for start in (0..self.faces.len()).step_by(BLOCK) {
+            let len = BLOCK.min(self.faces.len() - start);
+            for (j, face) in self.faces[start..start + len].iter().enumerate() {
+                for (k, &v) in face.iter().enumerate() {
+                    for c in 0..3 {
+                        points[k][c][j] = positions[v as usize][c];
+                    }
                 }
-                // Corner k below its limit ⇔ cos(corner) > cos(limit) (cos falls on [0, π]);
-                // a zero-length edge gives NaN and counts as folded.
-                (0..3).any(|k| {
-                    let u = sub(p[(k + 1) % 3], p[k]);
-                    let w = sub(p[(k + 2) % 3], p[k]);
-                    let c = dot(u, w) / (dot(u, u) * dot(w, w)).sqrt();
-                    c.is_nan() || c > self.guard.cos_limit[*f][k]
-                })
-            })
-            .map(|(f, _)| f)
-            .collect()
+            }
+            arch.dispatch(FoldTests {
+                points: &points,
+                normals0: &self.guard.normals0[start..start + len],
+                cos_limit: &self.guard.cos_limit[start..start + len],
+                folded: &mut folded[..len],
+            });
+            out.extend((0..len).filter(|&j| folded[j]).map(|j| start + j));
+        }
+        out
     }
 
     /// Positions with the interior vertices replaced.
@@ -283,6 +318,71 @@ pub fn beyond(r: f64, dead_zone_rad: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The guard's block loop against the fold rule stated with the mesh crate's own
+    /// normals and angles (acos of normalised vectors, not the guard's cosine comparison),
+    /// on a grid of 882 faces (four blocks) with folds planted in several blocks.
+    #[test]
+    fn the_fold_guard_finds_the_faces_the_rule_names() {
+        let mesh = flatcut_mesh::shapes::grid_patch(22, 22, 100.0, |x, y| 0.001 * x * y);
+        let topo = Topology::build(&mesh).unwrap();
+        let n = mesh.positions.len();
+        let floor_deg = 0.5;
+        let piece = Piece::new(
+            0,
+            (0..n as u32).collect(),
+            &mesh,
+            topo,
+            &vec![1.0; n],
+            floor_deg,
+        )
+        .unwrap();
+        let rule = |pos: &[[f64; 3]]| -> Vec<usize> {
+            let (normals0, normals) = (
+                face_normals(&mesh.positions, &mesh.faces),
+                face_normals(pos, &mesh.faces),
+            );
+            let (angles0, angles) = (
+                corner_angles(&mesh.positions, &mesh.faces),
+                corner_angles(pos, &mesh.faces),
+            );
+            let floor = f64::to_radians(floor_deg);
+            (0..mesh.faces.len())
+                .filter(|&f| {
+                    dot(normals[f], normals0[f]) <= 0.0
+                        || (0..3).any(|k| {
+                            let limit = if angles0[f][k] >= floor {
+                                floor
+                            } else {
+                                0.5 * angles0[f][k]
+                            };
+                            angles[f][k] < limit
+                        })
+                })
+                .collect()
+        };
+        assert!(piece.offending_faces(&mesh.positions).is_empty());
+        let mut pos = mesh.positions.clone();
+        // A vertex pushed across its ring (flips), one pulled onto an edge of its ring
+        // (slivers), in different blocks.
+        let (a, b) = (5 * 22 + 5, 17 * 22 + 12);
+        pos[a][0] += 12.0;
+        let (p, q) = (pos[b - 1], pos[b + 22]);
+        pos[b] = [
+            0.5 * (p[0] + q[0]) + 1e-4,
+            0.5 * (p[1] + q[1]),
+            0.5 * (p[2] + q[2]),
+        ];
+        let found = piece.offending_faces(&pos);
+        let expected = rule(&pos);
+        assert!(expected.len() >= 3, "{expected:?}");
+        assert!(expected.iter().any(|&f| f < 256) && expected.iter().any(|&f| f >= 512));
+        assert_eq!(found, expected);
+        assert_eq!(piece.folded_faces(&pos), expected.len());
+        // A NaN counts every face.
+        pos[7][2] = f64::NAN;
+        assert_eq!(piece.folded_faces(&pos), mesh.faces.len());
+    }
 
     #[test]
     fn the_merit_with_no_dead_zone_is_the_squared_residual_bit_for_bit() {

@@ -76,3 +76,24 @@ fn gradient_of_flat_vertex_has_no_normal_component() {
         assert!(g[2].abs() < 1e-14);
     }
 }
+
+#[test]
+fn degenerate_corners_get_zero_gradients_and_others_the_formula() {
+    use flatcut_flattenable::angle_gradient::{corner_gradient, corner_gradient_next_previous};
+    // Collinear edges, a zero-length edge, and a NaN coordinate: the angle is not
+    // differentiable, so the gradients are zero rather than NaN or infinite (the branch-free
+    // version computes them and then selects zeros).
+    let p = [0.0, 0.0, 0.0];
+    for (a, b) in [
+        ([1.0, 0.0, 0.0], [2.0, 0.0, 0.0]),
+        ([0.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]),
+    ] {
+        assert_eq!(corner_gradient(p, a, b), [[0.0; 3]; 3], "a {a:?} b {b:?}");
+    }
+    // A right angle at p with legs 2 (along x) and 1 (along y): moving a along +y closes the
+    // angle at the rate 1/|u| = 1/2, moving b along +x at 1/|w| = 1.
+    let [ga, gb] = corner_gradient_next_previous([2.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+    assert_eq!(ga, [0.0, -0.5, 0.0]);
+    assert_eq!(gb, [-1.0, 0.0, 0.0]);
+}

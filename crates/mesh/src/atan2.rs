@@ -35,8 +35,9 @@ const ATAN_POLY: [f64; 11] = [
 ];
 
 /// atan2(|y|, x): the angle in [0, π] of the vector (x, |y|), within 2 ulp of the correctly
-/// rounded value. (0, 0) gives 0, as `f64::atan2`; a NaN argument gives NaN.
-#[inline]
+/// rounded value. (0, 0) gives 0, as `f64::atan2`; a NaN argument gives NaN. Always inlined,
+/// so that it takes the vector width of the SIMD context its caller is compiled for.
+#[inline(always)]
 pub fn atan2_upper_half(y: f64, x: f64) -> f64 {
     let y = y.abs();
     let ax = x.abs();

@@ -65,7 +65,7 @@ pub fn point_segment_distance(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
 /// The angle between a and b in radians, in the stable atan2 form
 /// (|a × b|, a · b), exact near 0 and π where acos is not; the atan2 is
 /// [`crate::atan2::atan2_upper_half`] (within 2 ulp, the same bits on every platform).
-#[inline]
+#[inline(always)]
 pub fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
     crate::atan2::atan2_upper_half(norm(cross(a, b)), dot(a, b))
 }
