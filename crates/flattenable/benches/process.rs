@@ -71,7 +71,7 @@ fn bench(c: &mut Criterion) {
         let layout = Layout::build(&topo, &mesh.faces).unwrap_or_else(|e| panic!("{e:?}"));
         let mut theta = vec![0.0; layout.n()];
         let mut grad = vec![[0.0; 3]; layout.entries()];
-        layout.evaluate(&mesh.positions, &mesh.faces, &mut theta, &mut grad);
+        layout.evaluate(&mesh.positions, &mut theta, &mut grad);
         let scale = vec![1.0; layout.n()];
         let metric = Metric {
             scale: &scale,

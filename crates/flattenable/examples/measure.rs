@@ -677,7 +677,7 @@ fn speed() {
         let layout = Layout::build(&topo, &mesh.faces).unwrap();
         let mut theta = vec![0.0; layout.n()];
         let mut grad = vec![[0.0; 3]; layout.entries()];
-        layout.evaluate(&mesh.positions, &mesh.faces, &mut theta, &mut grad);
+        layout.evaluate(&mesh.positions, &mut theta, &mut grad);
         let scale = vec![1.0; layout.n()];
         let metric = Metric {
             scale: &scale,
@@ -705,7 +705,7 @@ fn speed() {
         let solve = best_of(&mut || layout.solve(&fac, &mut x, 1));
         let assemble = best_of(&mut || layout.normal_matrix(&grad, &metric, &mut normal));
         let (mut th, mut gr) = (theta.clone(), grad.clone());
-        let eval = best_of(&mut || layout.evaluate(&mesh.positions, &mesh.faces, &mut th, &mut gr));
+        let eval = best_of(&mut || layout.evaluate(&mesh.positions, &mut th, &mut gr));
         println!(
             "{} faces: Cholesky {:.3} ms, solve {:.3} ms, assemble A G Aᵀ {:.3} ms, θ+A {:.3} ms",
             mesh.faces.len(),

@@ -125,7 +125,7 @@ pub fn run(
     let (mut rejected, mut factorizations) = (0usize, 0usize);
     let merit = |p: &[[f64; 3]]| {
         let mut t = vec![0.0; piece.layout.n()];
-        piece.layout.theta(p, &piece.faces, &mut t);
+        piece.layout.theta(p, &mut t);
         Piece::errors(&t).1
     };
     let mut pending: VecDeque<Option<CoarseToFine>> = attempts.into();
@@ -347,7 +347,7 @@ fn pass(
         report.rejected_steps += rep.rejected_steps;
         report.factorizations += rep.factorizations;
         let mut theta = vec![0.0; lp.layout.n()];
-        lp.layout.theta(&pos, &lp.faces, &mut theta);
+        lp.layout.theta(&pos, &mut theta);
         let err = Piece::errors(&theta).0;
         summary.push(format!(
             "level {k}: {} faces, {} iterations (+{} rejected), θ_err {err:.1e}",
@@ -370,7 +370,7 @@ fn pass(
     let coarse = solution.unwrap_or_else(|| levels[0].mesh.positions.clone());
     let start = start_from(piece, &levels[0], &coarse, c2f.prolongation);
     let mut theta0 = vec![0.0; piece.layout.n()];
-    piece.layout.theta(&piece.pos0, &piece.faces, &mut theta0);
+    piece.layout.theta(&piece.pos0, &mut theta0);
     report.theta_err.push(Piece::errors(&theta0).0);
     let coarse_rejected = report.rejected_steps;
     report.rejected_steps = 0;

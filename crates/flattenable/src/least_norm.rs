@@ -43,9 +43,11 @@ pub struct Layout {
     /// Interior index of each entry's column vertex.
     pub col: Vec<u32>,
     /// For every (interior vertex, outgoing halfedge): the A entry of p, a, b or `INVALID`
-    /// (boundary vertex). Aligned with `corner_halfedge`.
+    /// (boundary vertex). Aligned with `corner_vertices`.
     corner_entries: Vec<[u32; 3]>,
-    corner_halfedge: Vec<u32>,
+    /// Per corner: its centre (the interior vertex), then the next and previous vertices of
+    /// its face — read at every θ and A evaluation, so looked up once here.
+    corner_vertices: Vec<[u32; 3]>,
     /// Start of each interior vertex's corners in `corner_entries`.
     corner_ptr: Vec<usize>,
     /// Lower CSC pattern of the normal matrix.
@@ -256,7 +258,7 @@ impl Layout {
         let mut row_ptr = Vec::with_capacity(n + 1);
         let mut col = Vec::new();
         let mut corner_entries = Vec::new();
-        let mut corner_halfedge = Vec::new();
+        let mut corner_vertices = Vec::new();
         let mut corner_ptr = Vec::with_capacity(n + 1);
         row_ptr.push(0);
         corner_ptr.push(0);
@@ -287,7 +289,7 @@ impl Layout {
                     entry(f[(k + 1) % 3], &col),
                     entry(f[(k + 2) % 3], &col),
                 ]);
-                corner_halfedge.push(h);
+                corner_vertices.push([f[k], f[(k + 1) % 3], f[(k + 2) % 3]]);
             }
             row_ptr.push(col.len());
             corner_ptr.push(corner_entries.len());
@@ -423,7 +425,7 @@ impl Layout {
             row_ptr,
             col,
             corner_entries,
-            corner_halfedge,
+            corner_vertices,
             corner_ptr,
             m_col_ptr,
             m_row_idx,
@@ -451,29 +453,16 @@ impl Layout {
     }
 
     /// θ at every interior vertex and the entries of A (∂θ_i / ∂v_col).
-    pub fn evaluate(
-        &self,
-        positions: &[[f64; 3]],
-        faces: &[[u32; 3]],
-        theta: &mut [f64],
-        grad: &mut [[f64; 3]],
-    ) {
-        self.gradient(positions, faces, grad);
-        self.theta(positions, faces, theta);
+    pub fn evaluate(&self, positions: &[[f64; 3]], theta: &mut [f64], grad: &mut [[f64; 3]]) {
+        self.gradient(positions, grad);
+        self.theta(positions, theta);
     }
 
     /// Corner `k`'s points: its centre (the interior vertex), then the next and previous
     /// points of its face.
     #[inline]
-    fn corner_points(&self, k: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> [[f64; 3]; 3] {
-        let h = self.corner_halfedge[k];
-        let f = faces[Topology::face(h).idx()];
-        let kk = (h % 3) as usize;
-        [
-            positions[f[kk] as usize],
-            positions[f[(kk + 1) % 3] as usize],
-            positions[f[(kk + 2) % 3] as usize],
-        ]
+    fn corner_points(&self, k: usize, positions: &[[f64; 3]]) -> [[f64; 3]; 3] {
+        self.corner_vertices[k].map(|v| positions[v as usize])
     }
 
     /// Adds corner `k`'s gradients (centre, next, previous) to their entries of A.
@@ -495,18 +484,18 @@ impl Layout {
     /// which vectorises (this was a seventh of a 3.5k-face run), then the scatter in corner
     /// order — the same operations in the same order as one `corner_gradient` per corner,
     /// so the same bits (tested against `angle_sum_gradient`).
-    pub fn gradient(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], grad: &mut [[f64; 3]]) {
+    pub fn gradient(&self, positions: &[[f64; 3]], grad: &mut [[f64; 3]]) {
         const BLOCK: usize = 256;
         // Per corner of a block: the edges u, w from its centre (x, y, z each), overwritten
         // by the gradients with respect to the corner's next and previous points.
         let mut u = [[0.0f64; BLOCK]; 3];
         let mut w = [[0.0f64; BLOCK]; 3];
         grad.iter_mut().for_each(|g| *g = [0.0; 3]);
-        let corners = self.corner_halfedge.len();
+        let corners = self.corner_vertices.len();
         let arch = pulp::Arch::new();
         for start in (0..corners).step_by(BLOCK) {
             let len = BLOCK.min(corners - start);
-            self.gather_edges(start, len, positions, faces, &mut u, &mut w);
+            self.gather_edges(start, len, positions, &mut u, &mut w);
             arch.dispatch(CornerGradients {
                 u: &mut u,
                 w: &mut w,
@@ -526,18 +515,18 @@ impl Layout {
     /// without branches, which vectorises (atan2 one corner at a time was a fifth of a
     /// 3.5k-face run), then the sums in corner order: the same sums as
     /// [`Layout::theta_at`], bit for bit.
-    pub fn theta(&self, positions: &[[f64; 3]], faces: &[[u32; 3]], theta: &mut [f64]) {
+    pub fn theta(&self, positions: &[[f64; 3]], theta: &mut [f64]) {
         const BLOCK: usize = 256;
         let mut u = [[0.0f64; BLOCK]; 3];
         let mut w = [[0.0f64; BLOCK]; 3];
         let mut alpha = [0.0f64; BLOCK];
-        let corners = self.corner_halfedge.len();
+        let corners = self.corner_vertices.len();
         let arch = pulp::Arch::new();
         let mut vertex = 0usize;
         let mut sum = 0.0;
         for start in (0..corners).step_by(BLOCK) {
             let len = BLOCK.min(corners - start);
-            self.gather_edges(start, len, positions, faces, &mut u, &mut w);
+            self.gather_edges(start, len, positions, &mut u, &mut w);
             // Compiled for the widest vectors the CPU has (4 lanes with AVX2 where the
             // baseline x86-64 build has 2): the same operations, so the same bits.
             arch.dispatch(CornerAngles {
@@ -569,12 +558,11 @@ impl Layout {
         start: usize,
         len: usize,
         positions: &[[f64; 3]],
-        faces: &[[u32; 3]],
         u: &mut [[f64; B]; 3],
         w: &mut [[f64; B]; 3],
     ) {
         for j in 0..len {
-            let [p, a, b] = self.corner_points(start + j, positions, faces);
+            let [p, a, b] = self.corner_points(start + j, positions);
             let (uj, wj) = (sub(a, p), sub(b, p));
             for c in 0..3 {
                 u[c][j] = uj[c];
@@ -584,10 +572,10 @@ impl Layout {
     }
 
     /// θ at interior vertex `i` only (its star's corners).
-    pub fn theta_at(&self, i: usize, positions: &[[f64; 3]], faces: &[[u32; 3]]) -> f64 {
+    pub fn theta_at(&self, i: usize, positions: &[[f64; 3]]) -> f64 {
         let mut t = 0.0;
         for k in self.corner_ptr[i]..self.corner_ptr[i + 1] {
-            let [p, a, b] = self.corner_points(k, positions, faces);
+            let [p, a, b] = self.corner_points(k, positions);
             t += angle(sub(a, p), sub(b, p));
         }
         t

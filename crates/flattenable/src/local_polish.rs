@@ -212,7 +212,7 @@ mod tests {
         let piece =
             Piece::new(0, (0..n as u32).collect(), &mesh, topo, &vec![1.0; n], 0.5).unwrap();
         let mut theta = vec![0.0; piece.layout.n()];
-        piece.layout.theta(&piece.pos0, &piece.faces, &mut theta);
+        piece.layout.theta(&piece.pos0, &mut theta);
         (piece, theta)
     }
 
@@ -258,9 +258,9 @@ mod tests {
         assert!(moved >= 25, "{moved}");
         let whole = extend(&region, &piece.pos0, &local);
         let mut theta_whole = vec![0.0; piece.layout.n()];
-        piece.layout.theta(&whole, &piece.faces, &mut theta_whole);
+        piece.layout.theta(&whole, &mut theta_whole);
         let mut theta_sub = vec![0.0; sub.layout.n()];
-        sub.layout.theta(&local, &sub.faces, &mut theta_sub);
+        sub.layout.theta(&local, &mut theta_sub);
         let mut in_region = vec![false; piece.layout.n()];
         for (i, &v) in sub.layout.interior.iter().enumerate() {
             let p = region.parent_of[v as usize];

@@ -34,7 +34,7 @@ pub fn run(
     let mut theta = vec![0.0; n];
     let mut grad = vec![[0.0; 3]; layout.entries()];
     let mut normal = vec![0.0; layout.normal_nnz()];
-    layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+    layout.evaluate(&pos, &mut theta, &mut grad);
     let (mut err, _) = Piece::errors(&theta);
     report.theta_err.push(err);
     let scale: Vec<f64> = piece.weights.iter().map(|w| 1.0 / (w * w)).collect();
@@ -86,7 +86,7 @@ pub fn run(
             None => v_star,
         };
         pos = piece.with_interior(&pos, &next);
-        layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+        layout.evaluate(&pos, &mut theta, &mut grad);
         let prev = err;
         (err, _) = Piece::errors(&theta);
         report.iterations = it + 1;

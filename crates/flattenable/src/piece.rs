@@ -185,7 +185,7 @@ impl Piece {
     /// θ at every interior vertex of the input.
     pub fn input_theta(&self) -> Vec<f64> {
         let mut theta = vec![0.0; self.layout.n()];
-        self.layout.theta(&self.pos0, &self.faces, &mut theta);
+        self.layout.theta(&self.pos0, &mut theta);
         theta
     }
 
@@ -193,7 +193,7 @@ impl Piece {
     /// [`Piece::input_theta`].
     pub fn measure(&self, positions: &[[f64; 3]], theta0: &[f64], report: &mut PieceReport) {
         let mut theta = vec![0.0; self.layout.n()];
-        self.layout.theta(positions, &self.faces, &mut theta);
+        self.layout.theta(positions, &mut theta);
         let (err, sq) = Self::errors(&theta);
         let n = self.layout.n();
         report.final_theta_err = err;

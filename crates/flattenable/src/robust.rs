@@ -279,7 +279,7 @@ fn run_inner(
     let mut trial_theta = vec![0.0; n];
     let mut grad = vec![[0.0; 3]; layout.entries()];
     let mut normal = vec![0.0; layout.normal_nnz()];
-    layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+    layout.evaluate(&pos, &mut theta, &mut grad);
     // The merit's dead zone: 0 until θ_err is within `DEAD_ZONE_FROM_RAD`, then
     // `DEAD_ZONE_FRACTION` of the tolerance.
     let mut dead_zone = 0.0;
@@ -401,7 +401,7 @@ fn run_inner(
             last_lift = before.last_lift + spent;
             dead_zone = before.dead_zone;
             pull_backs = 0;
-            layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+            layout.evaluate(&pos, &mut theta, &mut grad);
             (err, f) = Piece::merit(&theta, dead_zone);
             report
                 .messages
@@ -472,7 +472,7 @@ fn run_inner(
                     }
                     let cand = piece.with_interior(&pos, &moved);
                     if piece.folded_faces(&cand) == 0 && y.iter().all(|v| v.is_finite()) {
-                        layout.theta(&cand, &piece.faces, &mut cand_theta);
+                        layout.theta(&cand, &mut cand_theta);
                         if Piece::errors(&cand_theta).0 <= PULL_BACK_MAX_ERR_RAD {
                             pos = cand;
                             taken = true;
@@ -486,7 +486,7 @@ fn run_inner(
                 pull_backs = 0;
                 continue;
             }
-            layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+            layout.evaluate(&pos, &mut theta, &mut grad);
             (err, f) = Piece::merit(&theta, dead_zone);
             report.iterations += 1;
             report.pull_backs += 1;
@@ -509,7 +509,7 @@ fn run_inner(
             last_lift = report.iterations;
             if let Some(lifted) = lift_flat_excess(piece, layout, &pos, &theta, err, &reach) {
                 pos = lifted;
-                layout.evaluate(&pos, &piece.faces, &mut theta, &mut grad);
+                layout.evaluate(&pos, &mut theta, &mut grad);
                 (err, f) = Piece::merit(&theta, dead_zone);
                 report.iterations += 1;
                 report.theta_err.push(err);
@@ -567,7 +567,7 @@ fn run_inner(
                     polished.largest = polished.largest.max(interior);
                     pos = positions;
                     theta = polished_theta;
-                    layout.gradient(&pos, &piece.faces, &mut grad);
+                    layout.gradient(&pos, &mut grad);
                     let before = f;
                     (err, f) = Piece::merit(&theta, dead_zone);
                     best.record(f, &pos, report.iterations, report.factorizations);
@@ -682,7 +682,7 @@ fn run_inner(
                 continue;
             }
             let mut f_trial = if folded == 0 {
-                layout.theta(&trial, &piece.faces, &mut trial_theta);
+                layout.theta(&trial, &mut trial_theta);
                 Piece::merit(&trial_theta, dead_zone).1
             } else {
                 f64::INFINITY
@@ -702,7 +702,7 @@ fn run_inner(
                         }
                     }
                     let mut cand_theta = vec![0.0; n];
-                    layout.theta(&cand, &piece.faces, &mut cand_theta);
+                    layout.theta(&cand, &mut cand_theta);
                     let f_cand = Piece::merit(&cand_theta, dead_zone).1;
                     // The fold guard only for a correction the merit would keep (about half
                     // of them are not).
@@ -796,7 +796,7 @@ fn run_inner(
             Some(t) => theta = t,
             None => std::mem::swap(&mut theta, &mut trial_theta),
         }
-        layout.gradient(&pos, &piece.faces, &mut grad);
+        layout.gradient(&pos, &mut grad);
         (err, f) = Piece::merit(&theta, dead_zone);
         report.iterations += 1;
         report.theta_err.push(err);
@@ -903,7 +903,7 @@ fn polish_region(
     crate::local_polish::account(report, &sub);
     let positions = crate::local_polish::extend(&region, pos, &out);
     let mut new_theta = vec![0.0; n];
-    layout.theta(&positions, &piece.faces, &mut new_theta);
+    layout.theta(&positions, &mut new_theta);
     let (err, f) = Piece::merit(&new_theta, dead_zone);
     if f >= merit || piece.folded_faces(&positions) > 0 {
         return Some(RegionRun::Failed);
@@ -981,7 +981,7 @@ fn lift_flat_excess(
         let v = pos[p as usize];
         let mut at = |h: f64| {
             probe[p as usize] = [v[0] + h * n[0], v[1] + h * n[1], v[2] + h * n[2]];
-            let t = layout.theta_at(i, &probe, &piece.faces);
+            let t = layout.theta_at(i, &probe);
             probe[p as usize] = v;
             t
         };
@@ -1102,7 +1102,7 @@ fn backtrack(
             .collect();
         let cand = piece.with_interior(pos, &next);
         if piece.folded_faces(&cand) == 0 {
-            layout.theta(&cand, &piece.faces, &mut theta);
+            layout.theta(&cand, &mut theta);
             let f_cand = Piece::merit(&theta, dead_zone).1;
             let res: f64 = b
                 .iter()
