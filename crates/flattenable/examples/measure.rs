@@ -2,7 +2,7 @@
 //! flatcut_flattenable --example measure -- table` (or probe with env N = grid size,
 //! W = cap|saddle, TARGET=zero, PAPER/LS/TAN to add variants; probe_weights; probe_targets
 //! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA; DIAG=1 shows
-//! where the residual sits; speed [SIZES=…, REPS, TRACE=1]; saddles [SEEDS=…, DIAG=1], the
+//! where the residual sits; speed [SIZES=…, REPS, TRACE=1, STEP_RATIO=1]; saddles [SEEDS=…, DIAG=1], the
 //! round-off robustness check; SHAPE=bcap for the bench cap).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
@@ -750,6 +750,37 @@ fn speed() {
             }
             let (r, ok) = rep.unwrap();
             let p = &r.pieces[0];
+            // STEP_RATIO=1 (with C2F_LEVELS=0): what a step costs against one Cholesky with
+            // the three timed in turn, rep by rep — a Cholesky, the set-up alone
+            // (`max_iterations` 0), the whole run — and the minimum of each kept, so that a
+            // shared machine's slow spells fall on all three alike (timed apart, the
+            // Cholesky's best varied 1.2–2.0 ms between invocations on one machine).
+            if std::env::var_os("STEP_RATIO").is_some() && p.factorizations > 0 {
+                let set_up = ProcessOptions {
+                    max_iterations: Some(0),
+                    ..opts.clone()
+                };
+                let (mut chol_min, mut set_up_min, mut run_min) =
+                    (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+                for _ in 0..reps {
+                    let t = std::time::Instant::now();
+                    std::hint::black_box(layout.factor(&normal, 1e-3 * m, None).unwrap());
+                    chol_min = chol_min.min(t.elapsed().as_secs_f64());
+                    let t = std::time::Instant::now();
+                    std::hint::black_box(process(&mesh, &set_up).is_ok());
+                    set_up_min = set_up_min.min(t.elapsed().as_secs_f64());
+                    let t = std::time::Instant::now();
+                    std::hint::black_box(process(&mesh, &opts).is_ok());
+                    run_min = run_min.min(t.elapsed().as_secs_f64());
+                }
+                println!(
+                    "    interleaved minima: Cholesky {:.3} ms, set-up {:.2} ms, run {:.2} ms; per factorisation after the set-up {:.2}x one Cholesky",
+                    chol_min * 1e3,
+                    set_up_min * 1e3,
+                    run_min * 1e3,
+                    (run_min - set_up_min) / p.factorizations as f64 / chol_min
+                );
+            }
             for t in totals.iter_mut().filter(|t| t.0 == target) {
                 t.1 += p.factorizations;
                 t.2 += best_cpu;
