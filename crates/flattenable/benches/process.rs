@@ -136,6 +136,61 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
+/// What a step is made of besides the iteration's logic, per kernel, on the bench caps at
+/// the input: θ (every trial and correction), A (every accepted point), A G Aᵀ, one numeric
+/// Cholesky (symbolic reused) and one solve — so that a step's cost against one Cholesky can
+/// be read kernel by kernel (docs/benchmarks.md).
+fn bench_step_kernels(c: &mut Criterion) {
+    let mut group = c.benchmark_group("step_kernels");
+    group.sample_size(30);
+    for n in [43usize, 72] {
+        let mesh = cap(n);
+        let faces = mesh.face_count();
+        let topo = Topology::build(&mesh).unwrap_or_else(|e| panic!("{e}"));
+        let layout = Layout::build(&topo, &mesh.faces).unwrap_or_else(|e| panic!("{e:?}"));
+        let mut theta = vec![0.0; layout.n()];
+        let mut grad = vec![[0.0; 3]; layout.entries()];
+        layout.evaluate(&mesh.positions, &mut theta, &mut grad);
+        let scale = vec![1.0; layout.n()];
+        let metric = Metric {
+            scale: &scale,
+            normals: None,
+            tangential: 1.0,
+        };
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        let shift = 1e-3 * layout.mean_diagonal(&normal);
+        let mut factor = layout
+            .factor(&normal, shift, None)
+            .unwrap_or_else(|e| panic!("{e:?}"));
+        group.bench_function(format!("theta_{faces}_faces"), |b| {
+            b.iter(|| layout.theta(black_box(&mesh.positions), &mut theta))
+        });
+        group.bench_function(format!("gradient_{faces}_faces"), |b| {
+            b.iter(|| layout.gradient(black_box(&mesh.positions), &mut grad))
+        });
+        group.bench_function(format!("normal_matrix_{faces}_faces"), |b| {
+            b.iter(|| layout.normal_matrix(black_box(&grad), &metric, &mut normal))
+        });
+        group.bench_function(format!("cholesky_{faces}_faces"), |b| {
+            b.iter(|| {
+                layout
+                    .refactor(&mut factor, black_box(&normal), shift, None)
+                    .unwrap_or_else(|e| panic!("{e:?}"))
+            })
+        });
+        let rhs: Vec<f64> = theta.iter().map(|t| std::f64::consts::TAU - t).collect();
+        group.bench_function(format!("solve_{faces}_faces"), |b| {
+            b.iter(|| {
+                let mut x = rhs.clone();
+                layout.solve(&factor, &mut x, 1);
+                black_box(x)
+            })
+        });
+    }
+    group.finish();
+}
+
 /// The coarsening coarse-to-fine runs once per level before any iteration (to a quarter of
 /// the faces): a fixed cost of every piece of 2 000–15 000 faces.
 fn bench_coarsen(c: &mut Criterion) {
@@ -153,5 +208,5 @@ fn bench_coarsen(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, bench_coarsen);
+criterion_group!(benches, bench, bench_step_kernels, bench_coarsen);
 criterion_main!(benches);
