@@ -11,13 +11,11 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use flatcut_flattenable::least_norm::{Layout, Metric};
 use flatcut_flattenable::{ProcessOptions, process};
-use flatcut_mesh::{Topology, TriMesh};
 
-fn cap(n: usize) -> TriMesh {
-    flatcut_mesh::shapes::grid_patch(n, n, 1.0, |x, y| (1.0 - x * x - y * y).sqrt())
-}
+#[path = "../tests/common/mod.rs"]
+mod common;
+use common::{AtInput, bench_cap as cap};
 
 /// CPU time of this process so far (ns, Linux: summed /proc/self/task/*/schedstat; 0
 /// elsewhere). The machine is shared: wall time mostly measures the other agents' load.
@@ -67,20 +65,12 @@ fn bench(c: &mut Criterion) {
         };
         let (iters, err) = (report.iterations, report.final_theta_err);
         // One numeric factorisation of A Aᵀ at the input.
-        let topo = Topology::build(&mesh).unwrap_or_else(|e| panic!("{e}"));
-        let layout = Layout::build(&topo, &mesh.faces).unwrap_or_else(|e| panic!("{e:?}"));
-        let mut theta = vec![0.0; layout.n()];
-        let mut grad = vec![[0.0; 3]; layout.entries()];
-        layout.evaluate(&mesh.positions, &mut theta, &mut grad);
-        let scale = vec![1.0; layout.n()];
-        let metric = Metric {
-            scale: &scale,
-            normals: None,
-            tangential: 1.0,
-        };
-        let mut normal = vec![0.0; layout.normal_nnz()];
-        layout.normal_matrix(&grad, &metric, &mut normal);
-        let m = layout.mean_diagonal(&normal);
+        let AtInput {
+            layout,
+            normal,
+            mean_diagonal: m,
+            ..
+        } = AtInput::new(&mesh);
         // Best of 5: the least disturbed by the other agents' load.
         let chol = (0..5)
             .map(|_| {
@@ -146,20 +136,11 @@ fn bench_step_kernels(c: &mut Criterion) {
     for n in [43usize, 72] {
         let mesh = cap(n);
         let faces = mesh.face_count();
-        let topo = Topology::build(&mesh).unwrap_or_else(|e| panic!("{e}"));
-        let layout = Layout::build(&topo, &mesh.faces).unwrap_or_else(|e| panic!("{e:?}"));
-        let mut theta = vec![0.0; layout.n()];
-        let mut grad = vec![[0.0; 3]; layout.entries()];
-        layout.evaluate(&mesh.positions, &mut theta, &mut grad);
-        let scale = vec![1.0; layout.n()];
-        let metric = Metric {
-            scale: &scale,
-            normals: None,
-            tangential: 1.0,
-        };
-        let mut normal = vec![0.0; layout.normal_nnz()];
-        layout.normal_matrix(&grad, &metric, &mut normal);
-        let shift = 1e-3 * layout.mean_diagonal(&normal);
+        let at = AtInput::new(&mesh);
+        let (layout, metric) = (&at.layout, at.metric());
+        let (mut theta, mut grad, mut normal) =
+            (at.theta.clone(), at.grad.clone(), at.normal.clone());
+        let shift = 1e-3 * at.mean_diagonal;
         let mut factor = layout
             .factor(&normal, shift, None)
             .unwrap_or_else(|e| panic!("{e:?}"));

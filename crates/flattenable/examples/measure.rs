@@ -662,7 +662,6 @@ fn cpu_ns() -> u64 {
 /// iteration, `C2F_LEVELS=0` solves without coarse-to-fine, `C2F_MAX` raises its largest
 /// piece (all knobs of `c2f_from_env`), `ONLY_TARGET=zero|detail` runs one target.
 fn speed() {
-    use flatcut_flattenable::least_norm::{Layout, Metric};
     let reps: usize = env_or("REPS", 3);
     let sizes: Vec<usize> = env_list("SIZES", vec![12, 24, 33, 43, 72]);
     // Totals per target over the sizes (factorisations, best CPU, unconverged runs): what the
@@ -673,20 +672,9 @@ fn speed() {
     ];
     for n in sizes {
         let mesh = common::bench_cap(n);
-        let topo = flatcut_mesh::Topology::build(&mesh).unwrap();
-        let layout = Layout::build(&topo, &mesh.faces).unwrap();
-        let mut theta = vec![0.0; layout.n()];
-        let mut grad = vec![[0.0; 3]; layout.entries()];
-        layout.evaluate(&mesh.positions, &mut theta, &mut grad);
-        let scale = vec![1.0; layout.n()];
-        let metric = Metric {
-            scale: &scale,
-            normals: None,
-            tangential: 1.0,
-        };
-        let mut normal = vec![0.0; layout.normal_nnz()];
-        layout.normal_matrix(&grad, &metric, &mut normal);
-        let m = layout.mean_diagonal(&normal);
+        let at = common::AtInput::new(&mesh);
+        let (layout, metric, m) = (&at.layout, at.metric(), at.mean_diagonal);
+        let (theta, grad, mut normal) = (at.theta.clone(), at.grad.clone(), at.normal.clone());
         // Best of 20 (the machine is shared: the minimum is the least disturbed).
         let best_of = |f: &mut dyn FnMut()| {
             (0..20)

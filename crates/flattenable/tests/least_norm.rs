@@ -88,22 +88,14 @@ fn weighted_step_solves_constraints_and_equals_dense_pseudo_inverse() {
 
 #[test]
 fn damped_step_is_smaller_and_tends_to_the_undamped_one() {
-    let mesh = common::sphere_cap(8);
-    let (layout, theta, grad) = setup(&mesh);
-    let scale = vec![1.0; layout.n()];
-    let metric = Metric {
-        scale: &scale,
-        normals: None,
-        tangential: 1.0,
-    };
-    let mut normal = vec![0.0; layout.normal_nnz()];
-    layout.normal_matrix(&grad, &metric, &mut normal);
-    let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
-    let m = layout.mean_diagonal(&normal);
+    let at = common::AtInput::new(&common::sphere_cap(8));
+    let (layout, grad, normal, m) = (&at.layout, &at.grad, &at.normal, at.mean_diagonal);
+    let metric = at.metric();
+    let b: Vec<f64> = at.theta.iter().map(|t| TAU - t).collect();
     let norm = |d: &[[f64; 3]]| d.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
-    let d0 = least_norm_step(&layout, &grad, &metric, &normal, &b, 0.0).unwrap();
-    let d1 = least_norm_step(&layout, &grad, &metric, &normal, &b, 1.0 * m).unwrap();
-    let dt = least_norm_step(&layout, &grad, &metric, &normal, &b, 1e-12 * m).unwrap();
+    let d0 = least_norm_step(layout, grad, &metric, normal, &b, 0.0).unwrap();
+    let d1 = least_norm_step(layout, grad, &metric, normal, &b, 1.0 * m).unwrap();
+    let dt = least_norm_step(layout, grad, &metric, normal, &b, 1e-12 * m).unwrap();
     assert!(norm(&d1) < norm(&d0));
     let diff: Vec<[f64; 3]> = d0
         .iter()

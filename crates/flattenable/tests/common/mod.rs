@@ -1,7 +1,47 @@
 //! Test surfaces: height-field grids with one diagonal per quad (the patches).
 #![allow(dead_code, clippy::unwrap_used)]
 
-use flatcut_mesh::TriMesh;
+use flatcut_flattenable::least_norm::{Layout, Metric};
+use flatcut_mesh::{Topology, TriMesh};
+
+/// A piece's least-norm layout at its input: θ, A, unit weights and A Aᵀ (isotropic metric)
+/// with its mean diagonal — where the step tests, the kernel benchmarks and `measure --
+/// speed` start from.
+pub struct AtInput {
+    pub layout: Layout,
+    pub theta: Vec<f64>,
+    pub grad: Vec<[f64; 3]>,
+    pub scale: Vec<f64>,
+    pub normal: Vec<f64>,
+    pub mean_diagonal: f64,
+}
+
+impl AtInput {
+    pub fn new(mesh: &TriMesh) -> Self {
+        let topo = Topology::build(mesh).unwrap();
+        let layout = Layout::build(&topo, &mesh.faces).unwrap();
+        let mut theta = vec![0.0; layout.n()];
+        let mut grad = vec![[0.0; 3]; layout.entries()];
+        layout.evaluate(&mesh.positions, &mut theta, &mut grad);
+        let scale = vec![1.0; layout.n()];
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &Metric::isotropic(&scale), &mut normal);
+        let mean_diagonal = layout.mean_diagonal(&normal);
+        Self {
+            layout,
+            theta,
+            grad,
+            scale,
+            normal,
+            mean_diagonal,
+        }
+    }
+
+    /// The isotropic metric of unit weights A Aᵀ was built with.
+    pub fn metric(&self) -> Metric<'_> {
+        Metric::isotropic(&self.scale)
+    }
+}
 
 /// N×N vertices on [−half, half]², z = height(x, y), faces counter-clockwise from +z.
 ///
