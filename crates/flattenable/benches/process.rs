@@ -11,6 +11,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use flatcut_flattenable::least_norm::Metric;
 use flatcut_flattenable::{ProcessOptions, process};
 
 #[path = "../tests/common/mod.rs"]
@@ -136,11 +137,16 @@ fn bench_step_kernels(c: &mut Criterion) {
     for n in [43usize, 72] {
         let mesh = cap(n);
         let faces = mesh.face_count();
-        let at = AtInput::new(&mesh);
-        let (layout, metric) = (&at.layout, at.metric());
-        let (mut theta, mut grad, mut normal) =
-            (at.theta.clone(), at.grad.clone(), at.normal.clone());
-        let shift = 1e-3 * at.mean_diagonal;
+        let AtInput {
+            layout,
+            mut theta,
+            mut grad,
+            scale,
+            mut normal,
+            mean_diagonal,
+        } = AtInput::new(&mesh);
+        let metric = Metric::isotropic(&scale);
+        let shift = 1e-3 * mean_diagonal;
         let mut factor = layout
             .factor(&normal, shift, None)
             .unwrap_or_else(|e| panic!("{e:?}"));

@@ -672,9 +672,15 @@ fn speed() {
     ];
     for n in sizes {
         let mesh = common::bench_cap(n);
-        let at = common::AtInput::new(&mesh);
-        let (layout, metric, m) = (&at.layout, at.metric(), at.mean_diagonal);
-        let (theta, grad, mut normal) = (at.theta.clone(), at.grad.clone(), at.normal.clone());
+        let common::AtInput {
+            layout,
+            theta,
+            grad,
+            scale,
+            mut normal,
+            mean_diagonal: m,
+        } = common::AtInput::new(&mesh);
+        let metric = flatcut_flattenable::least_norm::Metric::isotropic(&scale);
         // Best of 20 (the machine is shared: the minimum is the least disturbed).
         let best_of = |f: &mut dyn FnMut()| {
             (0..20)

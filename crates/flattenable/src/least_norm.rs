@@ -481,7 +481,7 @@ impl Layout {
     /// The entries of A alone, for positions whose θ is already known (an accepted trial).
     /// The corners go in blocks, as in [`Layout::theta`]: their edges first, then the
     /// arithmetic of [`crate::angle_gradient::corner_gradient`] in a loop without branches,
-    /// which vectorises (this was a seventh of a 3.5k-face run), then the scatter in corner
+    /// which vectorises (one corner at a time it was 7 % of a 3.5k-face run), then the scatter in corner
     /// order — the same operations in the same order as one `corner_gradient` per corner,
     /// so the same bits (tested against `angle_sum_gradient`).
     pub fn gradient(&self, positions: &[[f64; 3]], grad: &mut [[f64; 3]]) {

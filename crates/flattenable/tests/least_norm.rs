@@ -13,12 +13,8 @@ use flatcut_flattenable::least_norm::{Layout, Metric, least_norm_step};
 use flatcut_mesh::Topology;
 
 fn setup(mesh: &flatcut_mesh::TriMesh) -> (Layout, Vec<f64>, Vec<[f64; 3]>) {
-    let topo = Topology::build(mesh).unwrap();
-    let layout = Layout::build(&topo, &mesh.faces).unwrap();
-    let mut theta = vec![0.0; layout.n()];
-    let mut grad = vec![[0.0; 3]; layout.entries()];
-    layout.evaluate(&mesh.positions, &mut theta, &mut grad);
-    (layout, theta, grad)
+    let at = common::AtInput::new(mesh);
+    (at.layout, at.theta, at.grad)
 }
 
 fn dense_a(layout: &Layout, grad: &[[f64; 3]]) -> Mat<f64> {
