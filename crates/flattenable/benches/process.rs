@@ -134,7 +134,7 @@ fn bench(c: &mut Criterion) {
 fn bench_step_kernels(c: &mut Criterion) {
     let mut group = c.benchmark_group("step_kernels");
     group.sample_size(30);
-    for n in [43usize, 72] {
+    for n in [12usize, 24, 43, 72] {
         let mesh = cap(n);
         let faces = mesh.face_count();
         let AtInput {
@@ -183,7 +183,7 @@ fn bench_step_kernels(c: &mut Criterion) {
 fn bench_coarsen(c: &mut Criterion) {
     let mut group = c.benchmark_group("coarsen");
     group.sample_size(20);
-    for n in [43usize, 72] {
+    for n in [12usize, 24, 43, 72] {
         let mesh = cap(n);
         let target = mesh.face_count() / 4;
         group.bench_function(format!("cap_{}_faces", mesh.face_count()), |b| {

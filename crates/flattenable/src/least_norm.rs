@@ -20,7 +20,7 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
 use faer::sparse::linalg::{SupernodalThreshold, amd};
@@ -31,6 +31,7 @@ use flatcut_mesh::{INVALID, Topology, VertexId};
 use flatcut_mesh::vec3::{angle, sub};
 
 use crate::angle_gradient::corner_gradient_next_previous;
+use crate::supernodal_solve::solve_llt_in_place;
 
 /// Per-piece sparse structure of A and A G Aᵀ with its symbolic factorisation.
 pub struct Layout {
@@ -708,8 +709,6 @@ impl Layout {
     /// Solves in place for `k` right-hand sides stored column-major in `rhs` (n × k).
     pub fn solve(&self, factor: &Factor, rhs: &mut [f64], k: usize) {
         let n = self.n();
-        let par = Par::Seq;
-        let mut buf = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par));
         // Into the factor's order and back (what faer does itself when it holds the order).
         let mut permuted = vec![0.0; n * k];
         for col in 0..k {
@@ -717,13 +716,22 @@ impl Layout {
                 permuted[col * n + kk] = rhs[col * n + o as usize];
             }
         }
-        let mat = MatMut::from_column_major_slice_mut(&mut permuted, n, k);
-        LltRef::<'_, u32, f64>::new(&self.symbolic, &factor.values).solve_in_place_with_conj(
-            Conj::No,
-            mat,
-            par,
-            MemStack::new(&mut buf),
-        );
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(supernodal) => {
+                for column in permuted.chunks_exact_mut(n) {
+                    solve_llt_in_place(supernodal, &factor.values, column);
+                }
+            }
+            // Not reached (the symbolic factorisation is forced supernodal), kept so that a
+            // change there stays correct.
+            SymbolicCholeskyRaw::Simplicial(_) => {
+                let par = Par::Seq;
+                let mut buf = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par));
+                let mat = MatMut::from_column_major_slice_mut(&mut permuted, n, k);
+                LltRef::<'_, u32, f64>::new(&self.symbolic, &factor.values)
+                    .solve_in_place_with_conj(Conj::No, mat, par, MemStack::new(&mut buf));
+            }
+        }
         for col in 0..k {
             for (kk, &o) in self.order.iter().enumerate() {
                 rhs[col * n + o as usize] = permuted[col * n + kk];

@@ -26,6 +26,7 @@ mod piece;
 mod process;
 mod report;
 mod robust;
+pub mod supernodal_solve;
 
 pub use error::FlattenableError;
 pub use options::{CoarseToFine, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update};
