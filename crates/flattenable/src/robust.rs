@@ -768,7 +768,7 @@ fn run_inner(
             };
             if ls.is_none()
                 && let Some((short, short_theta)) = backtrack(
-                    piece, layout, &pos, &interior, &d, &b, &ad, f, dead_zone, n, tries,
+                    piece, layout, &pos, &interior, &d, &b, &ad, f, f_trial, dead_zone, n, tries,
                 )
             {
                 report.backtracked_steps += 1;
@@ -1069,6 +1069,22 @@ const STEP_CAP_EDGES: f64 = 2.0;
 /// CPU, all converged (docs/algorithms/flattenable.md, "Slightly long steps shortened").
 const STEP_SHORTEN_MAX: f64 = 1.5;
 
+/// The first halving `k` (α = 2⁻ᵏ, 1 ≤ k ≤ `tries`) worth evaluating after the full step
+/// (or the full step with its second-order corrections) took the merit from `f` to
+/// `full_merit`. A near-flat blow-up is the second-order terms of θ, squared: B α⁴ with
+/// B ≈ `full_merit` (16× less per halving, as traced on the 33k-face cap: 1.3e7, 8.1e5,
+/// 5.1e4, … × f). The merit can only fall where B α⁴ is below the linear decrease, about
+/// 2 α f, i.e. for α < (2 f / B)^⅓, which lies below (f / B)^¼ whenever B ≥ 16 f; so the
+/// fractions above (f / B)^¼ are skipped, keeping one halving as a margin. A blow-up growing
+/// more slowly (as α² or α³) can only be accepted deeper still.
+fn first_fraction(f: f64, full_merit: f64, tries: usize) -> usize {
+    if !(full_merit.is_finite() && f > 0.0 && full_merit > f) {
+        return 1;
+    }
+    let quartic = ((full_merit / f).log2() / 4.0).ceil() as usize;
+    quartic.saturating_sub(1).clamp(1, tries.max(1))
+}
+
 /// The first of α = 1/2, 1/4, … (`tries` of them) for which `pos + α d` has no folded face
 /// and a real decrease of the merit against the linear model's prediction (ρ above
 /// `RHO_ACCEPT`, as for full steps); the new positions and their θ.
@@ -1082,13 +1098,15 @@ fn backtrack(
     b: &[f64],
     ad: &[f64],
     f: f64,
+    full_merit: f64,
     dead_zone: f64,
     n: usize,
     tries: usize,
 ) -> Option<(Vec<[f64; 3]>, Vec<f64>)> {
-    let mut alpha = 0.5;
+    let first = first_fraction(f, full_merit, tries);
+    let mut alpha = 0.5f64.powi(first as i32);
     let mut theta = vec![0.0; n];
-    for _ in 0..tries {
+    for _ in first..=tries {
         let next: Vec<[f64; 3]> = interior
             .iter()
             .zip(d)
@@ -1117,4 +1135,45 @@ fn backtrack(
         alpha *= 0.5;
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::first_fraction;
+
+    /// Along a step the merit is the linear model's f (1 − α)² plus a blow-up B αᵖ
+    /// (second-order terms: p = 4 for a near-flat star, 2 or 3 for milder ones). No
+    /// fraction α = 2⁻ᵏ that `first_fraction` skips may lower the merit, for full-step
+    /// merits from 1 to 1e12 times f; and a large blow-up does skip.
+    #[test]
+    fn skipped_fractions_could_not_lower_the_merit() {
+        let f = 3.7e-12;
+        for p in [2, 3, 4] {
+            for e in 0..=48 {
+                let full = 10f64.powf(e as f64 / 4.0) * f;
+                let merit = |alpha: f64| f * (1.0 - alpha).powi(2) + full * alpha.powi(p);
+                let first = first_fraction(f, full, 10);
+                for k in 1..first {
+                    let alpha = 0.5f64.powi(k as i32);
+                    assert!(
+                        merit(alpha) >= f,
+                        "p = {p}, full / f = {:e}: α = 2^-{k} skipped but lowers the merit",
+                        full / f
+                    );
+                }
+            }
+        }
+        // 1e7 f: (1e7)^¼ ≈ 2^5.8, so 2⁻¹ … 2⁻⁴ are skipped (2⁻⁵ kept as the margin).
+        assert_eq!(first_fraction(f, 1e7 * f, 10), 5);
+        assert_eq!(first_fraction(f, 1e7 * f, 3), 3);
+    }
+
+    #[test]
+    fn no_skip_without_a_blow_up() {
+        let f = 1e-9;
+        for full in [0.5 * f, f, 15.9 * f, f64::INFINITY, f64::NAN] {
+            assert_eq!(first_fraction(f, full, 10), 1, "full = {full:e}");
+        }
+        assert_eq!(first_fraction(0.0, 1.0, 10), 1);
+    }
 }
