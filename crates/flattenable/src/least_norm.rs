@@ -535,13 +535,22 @@ impl Layout {
                 w: &w,
                 alpha: &mut alpha[..len],
             });
-            for (j, alpha) in alpha[..len].iter().enumerate() {
-                while start + j >= self.corner_ptr[vertex + 1] {
+            // Each vertex's corners are contiguous: sum them run by run (the same additions
+            // in the same order as one corner at a time).
+            let end = start + len;
+            let mut at = start;
+            while at < end {
+                let vertex_end = self.corner_ptr[vertex + 1];
+                let stop = vertex_end.min(end);
+                for a in &alpha[at - start..stop - start] {
+                    sum += a;
+                }
+                at = stop;
+                if stop == vertex_end {
                     theta[vertex] = sum;
                     sum = 0.0;
                     vertex += 1;
                 }
-                sum += alpha;
             }
         }
         for t in &mut theta[vertex..self.n()] {
