@@ -1085,9 +1085,10 @@ fn first_fraction(f: f64, full_merit: f64, tries: usize) -> usize {
     quartic.saturating_sub(1).clamp(1, tries.max(1))
 }
 
-/// The first of α = 1/2, 1/4, … (`tries` of them) for which `pos + α d` has no folded face
-/// and a real decrease of the merit against the linear model's prediction (ρ above
-/// `RHO_ACCEPT`, as for full steps); the new positions and their θ.
+/// The first of α = 2⁻ᵏ, k from [`first_fraction`] (1 unless the full step blew up) to
+/// `tries`, for which `pos + α d` has no folded face and a real decrease of the merit against
+/// the linear model's prediction (ρ above `RHO_ACCEPT`, as for full steps); the new positions
+/// and their θ.
 #[allow(clippy::too_many_arguments)]
 fn backtrack(
     piece: &Piece,
