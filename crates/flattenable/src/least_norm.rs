@@ -24,7 +24,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky,
 };
 use faer::sparse::linalg::{SupernodalThreshold, amd};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use flatcut_mesh::{INVALID, Topology, VertexId};
 
@@ -51,9 +51,8 @@ pub struct Layout {
     corner_vertices: Vec<[u32; 3]>,
     /// Start of each interior vertex's corners in `corner_entries`.
     corner_ptr: Vec<usize>,
-    /// Lower CSC pattern of the normal matrix.
-    m_col_ptr: Vec<u32>,
-    m_row_idx: Vec<u32>,
+    /// Lower CSC pattern of the normal matrix, in the factor's order.
+    pattern: SymbolicSparseColMat<u32>,
     diag_slot: Vec<u32>,
     /// (slot, entry i, entry j): the products filling the normal matrix, grouped by column
     /// vertex c (`contrib_ptr`), both entries in column c.
@@ -420,6 +419,10 @@ impl Layout {
             row_idx: m_row_idx,
             ..
         } = permuted;
+        // Checked once here; every numeric factorisation reads it through `as_ref`, which
+        // does not check again (faer's checked view of the pattern was ~2 % of a
+        // factorisation at 3.5k faces).
+        let pattern = SymbolicSparseColMat::new_checked(n, n, m_col_ptr, None, m_row_idx);
         Ok(Self {
             interior,
             index_of,
@@ -428,8 +431,7 @@ impl Layout {
             corner_entries,
             corner_vertices,
             corner_ptr,
-            m_col_ptr,
-            m_row_idx,
+            pattern,
             diag_slot,
             contrib,
             contrib_ptr,
@@ -450,7 +452,7 @@ impl Layout {
 
     /// Number of stored entries of the lower normal matrix.
     pub fn normal_nnz(&self) -> usize {
-        self.m_row_idx.len()
+        self.pattern.row_idx().len()
     }
 
     /// θ at every interior vertex and the entries of A (∂θ_i / ∂v_col).
@@ -696,10 +698,7 @@ impl Layout {
         if v.iter().any(|x| !x.is_finite()) {
             return Err(FactorError::NotPositiveDefinite);
         }
-        let n = self.n();
-        let sym =
-            SymbolicSparseColMatRef::new_checked(n, n, &self.m_col_ptr, None, &self.m_row_idx);
-        let mat = SparseColMatRef::new(sym, v);
+        let mat = SparseColMatRef::new(self.pattern.as_ref(), v);
         // faer zeroes L itself before filling it.
         self.symbolic
             .factorize_numeric_llt::<f64>(
@@ -862,8 +861,9 @@ mod tests {
             // Stored in the fill-reducing order: back to interior indices, lower, sorted.
             let mut pairs = Vec::new();
             for k in 0..layout.n() {
-                let range = layout.m_col_ptr[k] as usize..layout.m_col_ptr[k + 1] as usize;
-                for &r in &layout.m_row_idx[range] {
+                let col_ptr = layout.pattern.col_ptr();
+                let range = col_ptr[k] as usize..col_ptr[k + 1] as usize;
+                for &r in &layout.pattern.row_idx()[range] {
                     let (a, b) = (layout.order[r as usize], layout.order[k]);
                     pairs.push((a.min(b), a.max(b)));
                 }
