@@ -8,13 +8,16 @@
 //! in millimetres.
 
 use std::path::PathBuf;
+use std::time::Duration;
 
 use anyhow::Context;
 use flatcut_flattenable::{
-    FlattenableError, Laplacian, Mode, ProcessOptions, ProcessReport, Processed, Target, Update,
+    FlattenableError, IterationDone, Laplacian, Mode, ProcessOptions, ProcessReport, Processed,
+    ProgressHook, Target, Update,
 };
 use flatcut_io::{Units, WriteOptions};
 use flatcut_mesh::{Topology, TriMesh};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// Arguments of `flatcut process`.
 #[derive(clap::Args, Debug)]
@@ -68,6 +71,9 @@ pub struct ProcessArgs {
     /// Print the report as JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    /// No progress spinner (it is drawn on standard error, and only when that is a terminal).
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 fn parse_mode(s: &str) -> Result<Mode, String> {
@@ -226,6 +232,17 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
         Some(p) => Some(read_weights(p, mesh.vertex_count())?),
         None => None,
     };
+    // Pieces of scan resolution take seconds to minutes: say what is happening (on
+    // standard error; indicatif draws nothing when it is not a terminal).
+    let spinner = (!args.quiet).then(|| {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template("{spinner} {elapsed} {msg}") {
+            bar.set_style(style);
+        }
+        bar.set_message(format!("processing {}", args.input.display()));
+        bar.enable_steady_tick(Duration::from_millis(120));
+        bar
+    });
     let target = args.target.unwrap_or(match args.mode {
         Mode::Paper => Target::Zero,
         Mode::Robust => Target::Detail,
@@ -240,9 +257,22 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
         boundary_ring_weight: args.boundary_ring_weight,
         tolerance_rad: args.tolerance,
         local_polish: !args.no_local_polish,
+        progress: spinner.as_ref().map_or_else(ProgressHook::default, |bar| {
+            let bar = bar.clone();
+            ProgressHook::new(move |e: &IterationDone| {
+                bar.set_message(format!(
+                    "piece {}: {} faces, iteration {}, θ_err {:.1e} rad",
+                    e.piece, e.faces, e.iteration, e.theta_err
+                ));
+            })
+        }),
         ..Default::default()
     };
-    let (processed, failure) = match flatcut_flattenable::process(&mesh, &opts) {
+    let outcome = flatcut_flattenable::process(&mesh, &opts);
+    if let Some(bar) = &spinner {
+        bar.finish_and_clear();
+    }
+    let (processed, failure) = match outcome {
         Ok(p) => (p, None),
         Err(FlattenableError::NotConverged {
             piece,

@@ -76,6 +76,12 @@ fn process_makes_a_cap_flattenable_and_reports() {
     );
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(stdout.contains("converged"), "{stdout}");
+    // The progress spinner draws only on a terminal: piped, standard error stays clean.
+    assert!(
+        run.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let rep: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     for key in [
@@ -121,6 +127,7 @@ fn process_makes_a_cap_flattenable_and_reports() {
             "--laplacian",
             "uniform",
             "--json",
+            "--quiet",
         ])
         .output()
         .unwrap();

@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::progress::ProgressHook;
+
 /// Which algorithm runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -188,6 +190,11 @@ pub struct ProcessOptions {
     /// measured on sphere caps of 19.6k–100k faces, 15 % less CPU in all (the 100k cap 13.0
     /// → 10.0 s) for the same surface (docs/algorithms/flattenable.md, "Local polish").
     pub local_polish: bool,
+    /// Called after every iteration of every run (pieces, coarse levels, polish regions),
+    /// from the thread running it; it only observes. Not part of a configuration file.
+    /// Default none.
+    #[serde(skip)]
+    pub progress: ProgressHook,
 }
 
 impl Default for ProcessOptions {
@@ -212,6 +219,7 @@ impl Default for ProcessOptions {
             min_angle_deg: 0.5,
             coarse_to_fine: CoarseToFine::default(),
             local_polish: true,
+            progress: ProgressHook::default(),
         }
     }
 }

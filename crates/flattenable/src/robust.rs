@@ -46,6 +46,7 @@ use crate::laplacian::LeastSquareUpdate;
 use crate::least_norm::{Layout, Metric};
 use crate::options::{ProcessOptions, Target, Update};
 use crate::piece::{Piece, beyond};
+use crate::progress::IterationDone;
 use crate::report::PieceReport;
 
 /// Initial damping relative to the mean diagonal of A G Aᵀ (the prototype's value).
@@ -351,7 +352,17 @@ fn run_inner(
     let mut local_retry_at = 0usize;
     let mut local_wait = LOCAL_RETRY_AFTER;
     let mut polished = PolishTally::default();
+    let mut notified = None;
     loop {
+        if notified != Some(report.iterations) {
+            notified = Some(report.iterations);
+            opts.progress.notify(IterationDone {
+                piece: piece.index,
+                faces: piece.faces.len(),
+                iteration: report.iterations,
+                theta_err: err,
+            });
+        }
         // Near θ = 2π the merit stops counting residuals well within the tolerance: on a
         // large piece they are many (the nearly flat top of a cap, ~1e-9 below 2π at
         // tens of thousands of vertices), they lie where rows of A nearly vanish, and chasing

@@ -328,3 +328,52 @@ fn an_already_flattenable_piece_is_returned_unchanged_without_iterations() {
     assert!(r.report.pieces[1].iterations > 0);
     assert_eq!(&r.mesh.positions[..cyl.vertex_count()], &cyl.positions[..]);
 }
+
+#[test]
+fn the_progress_hook_sees_every_iteration_and_changes_nothing() {
+    use std::sync::{Arc, Mutex};
+    // A cap and a saddle (two pieces, run in parallel), robust and paper mode.
+    let mesh = concat(&[common::sphere_cap(12), common::saddle(10)], 3.0);
+    for base in [
+        ProcessOptions::default(),
+        ProcessOptions::paper(Update::LeastSquare),
+    ] {
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let sink = Arc::clone(&seen);
+        let opts = ProcessOptions {
+            progress: flatcut_flattenable::ProgressHook::new(move |e| {
+                sink.lock().unwrap().push(*e);
+            }),
+            ..base.clone()
+        };
+        let quiet = process(&mesh, &base);
+        let observed = process(&mesh, &opts);
+        let (quiet, observed) = match (quiet, observed) {
+            (Ok(a), Ok(b)) => (a, b),
+            (
+                Err(FlattenableError::NotConverged { partial: a, .. }),
+                Err(FlattenableError::NotConverged { partial: b, .. }),
+            ) => (*a, *b),
+            (a, b) => panic!("{a:?} / {b:?}"),
+        };
+        assert_eq!(
+            quiet.mesh.positions, observed.mesh.positions,
+            "the hook changed the result"
+        );
+        let seen = seen.lock().unwrap();
+        for p in &observed.report.pieces {
+            // This piece's events, in order: iteration 0 (the input) and one per iteration,
+            // with the report's θ_err.
+            let events: Vec<(usize, f64)> = seen
+                .iter()
+                .filter(|e| e.piece == p.piece)
+                .map(|e| {
+                    assert_eq!(e.faces, p.faces);
+                    (e.iteration, e.theta_err)
+                })
+                .collect();
+            let expected: Vec<(usize, f64)> = p.theta_err.iter().copied().enumerate().collect();
+            assert_eq!(events, expected, "piece {} ({:?})", p.piece, base.mode);
+        }
+    }
+}
