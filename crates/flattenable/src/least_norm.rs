@@ -31,7 +31,7 @@ use flatcut_mesh::{INVALID, Topology, VertexId};
 use flatcut_mesh::vec3::{angle, sub};
 
 use crate::angle_gradient::corner_gradient_next_previous;
-use crate::supernodal_solve::solve_llt_in_place;
+use flatcut_sparse::solve_llt_in_place;
 
 /// Per-piece sparse structure of A and A G Aᵀ with its symbolic factorisation.
 pub struct Layout {
@@ -730,8 +730,8 @@ impl Layout {
                     solve_llt_in_place(supernodal, &factor.values, column);
                 }
             }
-            // Not reached (the symbolic factorisation is forced supernodal), kept so that a
-            // change there stays correct.
+            // Only an empty system (faer makes its factor simplicial even when supernodal is
+            // forced; pieces without interior vertices never get here).
             SymbolicCholeskyRaw::Simplicial(_) => {
                 let par = Par::Seq;
                 let mut buf = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par));

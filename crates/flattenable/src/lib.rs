@@ -27,7 +27,6 @@ mod process;
 mod progress;
 mod report;
 mod robust;
-pub mod supernodal_solve;
 
 pub use error::FlattenableError;
 pub use options::{CoarseToFine, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update};

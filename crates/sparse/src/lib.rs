@@ -9,10 +9,14 @@
 //!   [`SpdFactor::refactor`] replaces the values in place (Gauss–Newton, reweighted
 //!   Laplacians) without redoing the analysis or reallocating L.
 //! - [`SpdFactor::solve_in_place`]: several right-hand sides at once.
+//! - [`solve_llt_in_place`]: an L Lᵀ solve of our own on a faer supernodal factor, for
+//!   factors with many narrow supernodes, where faer's per-supernode dispatch costs more than
+//!   the arithmetic (`flatcut_flattenable`'s A G Aᵀ).
 //!
 //! Used by `flatcut_lscm` (LSCM, ARAP, Gauss–Newton) and `flatcut_trim` (the wire-frame
-//! surface's harmonic lift). It depends on faer only, so every crate that needs a sparse
-//! SPD solve can sit on top of it without the crate DAG growing other edges (see
+//! surface's harmonic lift); `flatcut_flattenable` uses the supernodal solve. It depends on
+//! faer only (and pulp, faer's SIMD dispatch), so every crate that needs a sparse SPD solve
+//! can sit on top of it without the crate DAG growing other edges (see
 //! docs/architecture.md).
 //!
 //! ```
@@ -31,9 +35,11 @@
 
 mod error;
 mod spd;
+pub mod supernodal_solve;
 mod triplets;
 
 pub use error::SparseError;
 pub use faer::c64;
 pub use spd::{SpdFactor, SpdPattern, Value};
+pub use supernodal_solve::solve_llt_in_place;
 pub use triplets::Triplets;

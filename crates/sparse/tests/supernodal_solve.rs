@@ -13,7 +13,7 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
-use flatcut_flattenable::supernodal_solve::solve_llt_in_place;
+use flatcut_sparse::solve_llt_in_place;
 
 /// A symmetric positive definite matrix as dense rows and as full (both triangles) CSC.
 struct Spd {
