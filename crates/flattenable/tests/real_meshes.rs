@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 
-use flatcut_flattenable::{FlattenableError, ProcessOptions, Processed, process};
+use flatcut_flattenable::{FlattenableError, ProcessOptions, Processed, Target, process};
 use flatcut_mesh::{Topology, TriMesh, VertexId};
 
 mod common;
@@ -108,7 +108,10 @@ fn body(name: &str) -> Option<TriMesh> {
 
 /// Every piece of the base body either converges or stops cleanly; the back, the shoulder
 /// and the thigh (|total defect| ≤ 1.9 rad, measured 6–19 iterations) must converge, the
-/// chest (+2.06 rad over both breasts, a dart case: measured best 3.7e-3) need not.
+/// chest (+2.06 rad over both breasts, a dart case: measured best 3.7e-3) need not. Where
+/// it converges, the default (detail) target ends no farther from the input than the zero
+/// target, the paper's (the criterion, on real pieces; measured: the upper back
+/// 0.0306 against 0.0309 RMS through a kept pull-back, the shoulder and the thigh equal).
 #[test]
 fn mh_body_pieces() {
     let Some(body) = body("mh_body.obj") else {
@@ -125,6 +128,19 @@ fn mh_body_pieces() {
                 "{name}: {}",
                 p.area_change_percent
             );
+            let zero_target = ProcessOptions {
+                target: Target::Zero,
+                ..Default::default()
+            };
+            // Wherever both converge. Where no pull-back is kept the two end on the same
+            // surface, equal to round-off (measured on pipeline pieces: 5e-11 relative).
+            if let Ok(zero) = process(&piece, &zero_target) {
+                let (detail, zero) = (p.rms_displacement_mm, zero.report.rms_displacement_mm);
+                assert!(
+                    detail <= zero * (1.0 + 1e-9),
+                    "{name}: RMS displacement {detail} (detail) against {zero} (zero)"
+                );
+            }
         }
     }
 }
