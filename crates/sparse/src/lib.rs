@@ -35,7 +35,7 @@
 
 mod error;
 mod spd;
-pub mod supernodal_solve;
+mod supernodal_solve;
 mod triplets;
 
 pub use error::SparseError;
