@@ -20,7 +20,6 @@ use crate::laplacian::LeastSquareUpdate;
 use crate::least_norm::{FactorError, Metric, least_norm_step};
 use crate::options::{ProcessOptions, Update};
 use crate::piece::Piece;
-use crate::progress::IterationDone;
 use crate::report::PieceReport;
 
 /// Runs paper mode on one piece; returns the final local positions.
@@ -38,15 +37,7 @@ pub fn run(
     layout.evaluate(&pos, &mut theta, &mut grad);
     let (mut err, _) = Piece::errors(&theta);
     report.theta_err.push(err);
-    let notify = |iteration: usize, theta_err: f64| {
-        opts.progress.notify(IterationDone {
-            piece: piece.index,
-            faces: piece.faces.len(),
-            iteration,
-            theta_err,
-        });
-    };
-    notify(0, err);
+    opts.progress.notify(piece, 0, err);
     let scale: Vec<f64> = piece.weights.iter().map(|w| 1.0 / (w * w)).collect();
     let metric = Metric {
         scale: &scale,
@@ -101,7 +92,7 @@ pub fn run(
         (err, _) = Piece::errors(&theta);
         report.iterations = it + 1;
         report.theta_err.push(err);
-        notify(it + 1, err);
+        opts.progress.notify(piece, it + 1, err);
         if !err.is_finite() || pos.iter().flatten().any(|c| !c.is_finite()) {
             return Err(FlattenableError::Diverged {
                 piece: piece.index,

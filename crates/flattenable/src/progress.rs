@@ -5,6 +5,8 @@
 use std::fmt;
 use std::sync::Arc;
 
+use crate::piece::Piece;
+
 /// The state after an iteration (or at the start, iteration 0) of one run: a piece, one
 /// level of its coarse-to-fine hierarchy, or a local polish region, told apart by `faces`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,10 +34,16 @@ impl ProgressHook {
         Self(Some(Arc::new(f)))
     }
 
-    /// Calls the callback, if any.
-    pub(crate) fn notify(&self, event: IterationDone) {
+    /// Tells the callback, if any, that the run on `piece` (a piece, a coarse level or a
+    /// region) is at `iteration` with θ_err `theta_err`.
+    pub(crate) fn notify(&self, piece: &Piece, iteration: usize, theta_err: f64) {
         if let Some(f) = &self.0 {
-            f(&event);
+            f(&IterationDone {
+                piece: piece.index,
+                faces: piece.faces.len(),
+                iteration,
+                theta_err,
+            });
         }
     }
 }

@@ -46,7 +46,6 @@ use crate::laplacian::LeastSquareUpdate;
 use crate::least_norm::{Layout, Metric};
 use crate::options::{ProcessOptions, Target, Update};
 use crate::piece::{Piece, beyond};
-use crate::progress::IterationDone;
 use crate::report::PieceReport;
 
 /// Initial damping relative to the mean diagonal of A G Aᵀ (the prototype's value).
@@ -356,12 +355,7 @@ fn run_inner(
     loop {
         if notified != Some(report.iterations) {
             notified = Some(report.iterations);
-            opts.progress.notify(IterationDone {
-                piece: piece.index,
-                faces: piece.faces.len(),
-                iteration: report.iterations,
-                theta_err: err,
-            });
+            opts.progress.notify(piece, report.iterations, err);
         }
         // Near θ = 2π the merit stops counting residuals well within the tolerance: on a
         // large piece they are many (the nearly flat top of a cap, ~1e-9 below 2π at
