@@ -156,6 +156,15 @@ impl<'a> Metric<'a> {
         }
     }
 
+    /// G applied to a field of one vector per interior vertex.
+    pub fn apply_field(&self, field: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        field
+            .iter()
+            .enumerate()
+            .map(|(c, &g)| self.apply(c, g))
+            .collect()
+    }
+
     #[inline]
     fn apply(&self, c: usize, g: [f64; 3]) -> [f64; 3] {
         let s = self.scale[c];

@@ -264,6 +264,11 @@ impl Piece {
             .to_degrees();
     }
 
+    /// Total area of the piece at `positions`.
+    pub fn total_area(&self, positions: &[[f64; 3]]) -> f64 {
+        face_areas(positions, &self.faces).iter().sum()
+    }
+
     /// Mean length of each interior vertex's incident edges in the input (each edge is
     /// counted once per incident face, i.e. twice for an interior edge: same mean).
     pub fn interior_edge_lengths(&self) -> Vec<f64> {

@@ -21,6 +21,10 @@
 //! path of least steps. A pull-back whose restoring steps do not end, within
 //! `PULL_BACK_RESTORE_MAX` iterations, at less displacement than before it is undone (the
 //! whole iteration state), and the run goes on as the zero target's would.
+//! From the first pull-back on, the area where the path before it ended (with the direct
+//! update: the zero target's path, bit for bit) is one more constraint (`AreaRow`: the pull-back's projection and every restoring step hold it), and a
+//! restored pull-back that still enlarged the area change is undone: the detail target
+//! trades no area change for its shorter displacement.
 //!
 //! Double roots: after `LIFT_AFTER` iterations without gain, nearly flat vertices with excess
 //! angle (whose rows of A nearly vanish) get a second-order step along their normal
@@ -42,8 +46,10 @@
 
 use std::f64::consts::TAU;
 
+use flatcut_mesh::geometry::area_gradient;
+
 use crate::laplacian::LeastSquareUpdate;
-use crate::least_norm::{Layout, Metric};
+use crate::least_norm::{Factor, Layout, Metric};
 use crate::options::{ProcessOptions, Target, Update};
 use crate::piece::{Piece, beyond};
 use crate::report::PieceReport;
@@ -122,6 +128,14 @@ const PULL_BACK_RESTORE_MAX: usize = 10;
 /// Smallest relative damping of the pull-back's projection (its rows may nearly vanish at
 /// flat vertices; a projection needs no step control, only a defined factorisation).
 const PULL_BACK_MU: f64 = 1e-10;
+/// A restored pull-back may end with |area − input area| above the held one's by at most
+/// this fraction of the input area: the area row is solved by the same Newton steps as θ,
+/// so it ends within round-off of its goal, not exactly on it. 1e-9 is far below the area
+/// change any report prints (0.001 %).
+const AREA_HOLD_SLACK: f64 = 1e-9;
+/// The area row is dropped when a · q is below this fraction of a · G aᵀ: the area gradient
+/// then lies (nearly) in the span of A's rows, and holding the area would need a long step.
+const AREA_ROW_MIN: f64 = 1e-8;
 
 /// The right-hand side of a step: 2π − θ beyond the merit's dead zone, per interior vertex.
 fn residual_beyond(theta: &[f64], dead_zone: f64) -> Vec<f64> {
@@ -134,6 +148,8 @@ struct Snapshot {
     factorizations: usize,
     /// Σ ‖v − v⁰‖² over the interior at `pos`.
     moved: f64,
+    /// The area the steps hold (`None` before the first pull-back).
+    area_goal: Option<f64>,
     pos: Vec<[f64; 3]>,
     mu: f64,
     stiff: Vec<f64>,
@@ -196,6 +212,89 @@ impl Best {
         iteration >= self.at + STALL_WINDOW
             || factorizations >= self.factorizations_at + STALL_FACTORIZATIONS
     }
+}
+
+/// The area as one more constraint of the step (`Target::Detail`, from its first pull-back
+/// on): min ‖d‖ in the metric subject to A d = b and a · d = goal − area, where a is the
+/// area's gradient over the interior.
+struct AreaRow {
+    /// a: ∂area/∂v per interior vertex.
+    grad: Vec<[f64; 3]>,
+    /// The area to hold.
+    goal: f64,
+    /// goal − area at the point the row was taken.
+    off: f64,
+}
+
+impl AreaRow {
+    fn at(piece: &Piece, positions: &[[f64; 3]], goal: f64) -> Self {
+        let all = area_gradient(positions, &piece.faces);
+        Self {
+            grad: piece.interior_of(&all),
+            goal,
+            off: goal - piece.total_area(positions),
+        }
+    }
+
+    /// q = G aᵀ − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A G aᵀ, the metric's shortest way to change the
+    /// area without changing θ to first order (exactly so at μ = 0), and a · q; one solve
+    /// with the step's factor. `None` when the area gradient lies (nearly) in the span of
+    /// A's rows: then θ = 2π alone fixes the area to first order.
+    fn direction(
+        &self,
+        layout: &Layout,
+        factor: &Factor,
+        grad: &[[f64; 3]],
+        metric: &Metric<'_>,
+    ) -> Option<AreaDirection> {
+        let ga = metric.apply_field(&self.grad);
+        let mut x = layout.apply(grad, &ga);
+        layout.solve(factor, &mut x, 1);
+        if !x.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let back = layout.step_from_multipliers(grad, metric, &x);
+        let q: Vec<[f64; 3]> = ga
+            .iter()
+            .zip(&back)
+            .map(|(g, b)| [g[0] - b[0], g[1] - b[1], g[2] - b[2]])
+            .collect();
+        let aq = dot_fields(&self.grad, &q);
+        let aga = dot_fields(&self.grad, &ga);
+        (aq.is_finite() && aq > AREA_ROW_MIN * aga).then_some(AreaDirection { q, aq, aga })
+    }
+
+    /// d + y q with y = (`off` − a · d) / (a · q + μ a G aᵀ): a step d for the rows of A,
+    /// completed to the step for A and the area row together (the Schur complement of the
+    /// bordered system, same factor). At μ = 0 it changes the area by exactly `off` to first
+    /// order; with damping μ (relative, as the step's) the area row is damped like A's rows
+    /// once scaled to their mean diagonal, so a damped step does not force the area at the
+    /// cost of θ.
+    fn correct(&self, dir: &AreaDirection, d: Vec<[f64; 3]>, off: f64, mu: f64) -> Vec<[f64; 3]> {
+        let y = (off - dot_fields(&self.grad, &d)) / (dir.aq + mu * dir.aga);
+        d.iter()
+            .zip(&dir.q)
+            .map(|(d, q)| [d[0] + y * q[0], d[1] + y * q[1], d[2] + y * q[2]])
+            .collect()
+    }
+}
+
+/// See [`AreaRow::direction`].
+struct AreaDirection {
+    /// q = G aᵀ − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A G aᵀ per interior vertex.
+    q: Vec<[f64; 3]>,
+    /// a · q.
+    aq: f64,
+    /// a · G aᵀ.
+    aga: f64,
+}
+
+/// Σ a_i · b_i over paired vectors.
+fn dot_fields(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+        .sum()
 }
 
 /// Σ ‖a − v‖² over paired points.
@@ -323,6 +422,11 @@ fn run_inner(
     };
     // Target::Detail: the input the pull-backs move towards, and how many remain.
     let anchor = piece.interior_of(&piece.pos0);
+    let area0 = piece.total_area(&piece.pos0);
+    // From the first pull-back on, every step holds the area where the path before it ended
+    // (the direct update's is the zero target's), so that the pull-backs trade no area
+    // change for their shorter displacement.
+    let mut area_goal: Option<f64> = None;
     let mut pull_backs = if opts.target == Target::Detail {
         PULL_BACKS
     } else {
@@ -376,10 +480,16 @@ fn run_inner(
                 // Restored: kept only if it did what it is for, less displacement from the
                 // input (the restoring steps can take back more than the pull-back gave: on
                 // the 100×100 cap the RMS displacement rose from 0.07118 to 0.07138).
-                Some(
-                    (displacement2(&anchor, &piece.interior_of(&pos)) >= before.moved)
-                        .then_some("it did not reduce the displacement from the input"),
-                )
+                if displacement2(&anchor, &piece.interior_of(&pos)) >= before.moved {
+                    Some(Some("it did not reduce the displacement from the input"))
+                } else if area_goal.is_some_and(|goal| {
+                    (piece.total_area(&pos) - area0).abs()
+                        > (goal - area0).abs() + AREA_HOLD_SLACK * area0
+                }) {
+                    Some(Some("it enlarged the area change"))
+                } else {
+                    Some(None)
+                }
             } else if report.iterations >= at + PULL_BACK_RESTORE_MAX {
                 Some(Some(
                     "θ = 2π was not restored within the restoring iterations",
@@ -405,6 +515,7 @@ fn run_inner(
             best.factorizations_at += report.factorizations - before.factorizations;
             last_lift = before.last_lift + spent;
             dead_zone = before.dead_zone;
+            area_goal = before.area_goal;
             pull_backs = 0;
             layout.evaluate(&pos, &mut theta, &mut grad);
             (err, f) = Piece::merit(&theta, dead_zone);
@@ -421,6 +532,7 @@ fn run_inner(
                 iterations: report.iterations,
                 factorizations: report.factorizations,
                 moved: z2,
+                area_goal,
                 pos: pos.clone(),
                 mu,
                 stiff: stiff.clone(),
@@ -464,6 +576,15 @@ fn run_inner(
                     .zip(&gy)
                     .map(|(z, g)| [z[0] - g[0], z[1] - g[1], z[2] - g[2]])
                     .collect();
+                // …and along the area's level set too: the same projection with the area
+                // gradient as one more row of A, so that the area stays where the path
+                // before the first pull-back ended (`area_goal`).
+                let goal = *area_goal.get_or_insert(piece.total_area(&pos));
+                let row = AreaRow::at(piece, &pos, goal);
+                let p = match row.direction(layout, &factor, &grad, &metric) {
+                    Some(dir) => row.correct(&dir, p, row.off, 0.0),
+                    None => p,
+                };
                 let mut beta = 1.0;
                 let mut cand_theta = vec![0.0; n];
                 for _ in 0..PULL_BACK_HALVINGS {
@@ -489,6 +610,7 @@ fn run_inner(
             }
             if !taken {
                 pull_backs = 0;
+                area_goal = before.area_goal;
                 continue;
             }
             layout.evaluate(&pos, &mut theta, &mut grad);
@@ -597,6 +719,7 @@ fn run_inner(
         let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
         let b = residual_beyond(&theta, dead_zone);
         let interior = piece.interior_of(&pos);
+        let area_row = area_goal.map(|goal| AreaRow::at(piece, &pos, goal));
         let mut accepted = None;
         let mut stiffened = 0usize;
         let mut assembled = false;
@@ -638,6 +761,15 @@ fn run_inner(
                 mu = (mu * 10.0).max(MU_MIN);
                 report.rejected_steps += 1;
                 continue;
+            };
+            // After a pull-back (`Target::Detail`) the step also holds the area.
+            let held = area_row.as_ref().and_then(|row| {
+                row.direction(layout, factor, &grad, &metric)
+                    .map(|dir| (row, dir))
+            });
+            let d = match &held {
+                Some((row, dir)) => row.correct(dir, d, row.off, mu),
+                None => d,
             };
             // No vertex moves farther than the linearisation reaches (`STEP_CAP_EDGES`): a
             // step a little longer is shortened to the cap (`STEP_SHORTEN_MAX`), a longer one
@@ -700,6 +832,12 @@ fn run_inner(
                 for _ in 0..MAX_CORRECTIONS {
                     let r = residual_beyond(&trial_theta, dead_zone);
                     let Some(dc) = solve(&r) else { break };
+                    let dc = match &held {
+                        Some((row, dir)) => {
+                            row.correct(dir, dc, row.goal - piece.total_area(&trial), mu)
+                        }
+                        None => dc,
+                    };
                     let mut cand = trial.clone();
                     for (i, &p) in layout.interior.iter().enumerate() {
                         for k in 0..3 {
@@ -1145,7 +1283,81 @@ fn backtrack(
 
 #[cfg(test)]
 mod tests {
-    use super::first_fraction;
+    use super::{AreaRow, dot_fields, first_fraction};
+    use crate::least_norm::Metric;
+    use crate::piece::Piece;
+    use flatcut_mesh::Topology;
+
+    /// The area row's direction q changes the area and not θ (A q = 0 at μ = 0, to round-off
+    /// against ‖A‖ ‖q‖), and a corrected step changes the area by exactly what is asked
+    /// (a · (d + y q) = off), while keeping what it does to θ (A (d + y q) = A d).
+    #[test]
+    fn the_area_row_moves_the_area_and_not_theta() {
+        let mesh = flatcut_mesh::shapes::grid_patch(9, 9, 1.0, |x, y| {
+            (1.0 - x * x - y * y).sqrt() + 0.05 * (3.0 * x).sin() * y
+        });
+        let topo = Topology::build(&mesh).unwrap();
+        let piece = Piece::new(0, (0..81).collect(), &mesh, topo, &[1.0; 81], 0.5).unwrap();
+        let layout = &piece.layout;
+        let n = layout.n();
+        let mut theta = vec![0.0; n];
+        let mut grad = vec![[0.0; 3]; layout.entries()];
+        layout.evaluate(&piece.pos0, &mut theta, &mut grad);
+        let scale = vec![1.0; n];
+        let metric = Metric::isotropic(&scale);
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        let mut factor = layout.new_factor().unwrap();
+        layout.refactor(&mut factor, &normal, 0.0, None).unwrap();
+        let area = piece.total_area(&piece.pos0);
+        let row = AreaRow::at(&piece, &piece.pos0, 1.01 * area);
+        assert!((row.off - 0.01 * area).abs() < 1e-15 * area);
+        let dir = row.direction(layout, &factor, &grad, &metric).unwrap();
+        let (q, aq, aga) = (&dir.q, dir.aq, dir.aga);
+        assert!(aq > 0.0 && aq <= aga, "a·q {aq:e}, a·G·a {aga:e}");
+        let aq_norm = |v: &[[f64; 3]]| {
+            layout
+                .apply(&grad, v)
+                .iter()
+                .map(|x| x * x)
+                .sum::<f64>()
+                .sqrt()
+        };
+        let a_norm: f64 = grad
+            .iter()
+            .map(|g| dot_fields(&[*g], &[*g]))
+            .sum::<f64>()
+            .sqrt();
+        let q_norm = dot_fields(q, q).sqrt();
+        assert!(
+            aq_norm(q) < 1e-12 * a_norm * q_norm,
+            "|A q| = {:e}",
+            aq_norm(q)
+        );
+        // Any step: here the least-norm step for b = 2π − θ.
+        let mut x: Vec<f64> = theta.iter().map(|t| std::f64::consts::TAU - t).collect();
+        layout.solve(&factor, &mut x, 1);
+        let d = layout.step_from_multipliers(&grad, &metric, &x);
+        let ad = layout.apply(&grad, &d);
+        let corrected = row.correct(&dir, d, row.off, 0.0);
+        let a_dot = dot_fields(&row.grad, &corrected);
+        assert!(
+            (a_dot - row.off).abs() < 1e-12 * row.off.abs(),
+            "a·d {a_dot:e} vs {:e}",
+            row.off
+        );
+        let ad_corrected = layout.apply(&grad, &corrected);
+        let drift = ad
+            .iter()
+            .zip(&ad_corrected)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        let scale_ad = ad.iter().map(|a| a.abs()).fold(0.0, f64::max);
+        assert!(
+            drift < 1e-9 * scale_ad,
+            "A d moved by {drift:e} (max |A d| {scale_ad:e})"
+        );
+    }
 
     /// Along a step the merit is the linear model's f (1 − α)² plus a blow-up B αᵖ
     /// (second-order terms: p = 4 for a near-flat star, 2 or 3 for milder ones). No

@@ -402,13 +402,16 @@ fn near_theta_2pi_rejected_steps_are_backtracked_deep_instead_of_refactorised() 
 }
 
 #[test]
-fn detail_target_moves_less_than_the_zero_target() {
+fn detail_target_moves_less_than_the_zero_target_at_no_more_area_change() {
     // Target::Detail pulls the converged surface back towards the input along the
-    // constraint set (a stationary point of the paper's Eq. 1); the zero target ends where
-    // the memoryless least-norm steps end. Both flat and unfolded; the detail one closer to
-    // the input (measured: cap 0.0710 vs 0.0716, saddle 0.0267 vs 0.0280 RMS).
-    for mesh in [common::sphere_cap(25), common::saddle(25)] {
-        let rms = |target| {
+    // constraint set and along the area's level set (a stationary point of the paper's
+    // Eq. 1 at the area where the zero target's path ends); the zero target ends where the
+    // memoryless least-norm steps end. Both flat and unfolded; the detail one closer to the
+    // input (measured: bench cap 35×35 0.0691 vs 0.0701, saddle 25×25 0.0283 vs 0.0299 RMS)
+    // and with an area change no larger (the pull-backs hold the area to within
+    // `AREA_HOLD_SLACK` = 1e-9 of the input's, 1e-7 in percent).
+    for mesh in [common::bench_cap(35), common::saddle(25)] {
+        let run = |target| {
             let r = robust(
                 &mesh,
                 &ProcessOptions {
@@ -417,10 +420,14 @@ fn detail_target_moves_less_than_the_zero_target() {
                 },
             );
             assert_flat_unfolded(&mesh, &r);
-            r.report.rms_displacement_mm
+            (r.report.rms_displacement_mm, r.report.area_change_percent)
         };
-        let (detail, zero) = (rms(Target::Detail), rms(Target::Zero));
-        assert!(detail < zero, "detail {detail} vs zero {zero}");
+        let ((detail, detail_area), (zero, zero_area)) = (run(Target::Detail), run(Target::Zero));
+        assert!(detail < 0.99 * zero, "detail {detail} vs zero {zero}");
+        assert!(
+            detail_area.abs() <= zero_area.abs() + 1e-7,
+            "area change: detail {detail_area} % vs zero {zero_area} %"
+        );
     }
 }
 

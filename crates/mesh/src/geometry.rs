@@ -70,6 +70,28 @@ pub fn face_normals(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]>
         .collect()
 }
 
+/// ∂(total area)/∂v per vertex: Σ over v's faces of ½ n̂ × (v_next − v_prev), the
+/// half-edge opposite v turned a quarter in the face's plane (zero for a degenerate face).
+pub fn area_gradient(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]> {
+    let mut grad = vec![[0.0; 3]; positions.len()];
+    for f in faces {
+        let p = [
+            positions[f[0] as usize],
+            positions[f[1] as usize],
+            positions[f[2] as usize],
+        ];
+        let n = crate::vec3::normalize(cross(sub(p[1], p[0]), sub(p[2], p[0])));
+        for k in 0..3 {
+            let g = cross(n, sub(p[(k + 2) % 3], p[(k + 1) % 3]));
+            let out = &mut grad[f[k] as usize];
+            for c in 0..3 {
+                out[c] += 0.5 * g[c];
+            }
+        }
+    }
+    grad
+}
+
 /// Total surface area.
 pub fn total_area(mesh: &TriMesh) -> f64 {
     face_areas(&mesh.positions, &mesh.faces).iter().sum()

@@ -323,3 +323,35 @@ fn point_segment_distance_closed_forms() {
     assert!((point_segment_distance([1.0 - 0.6, 2.0 - 0.8, 3.0], a, b) - 1.0).abs() < 1e-15);
     assert!((point_segment_distance([1.0, 2.0, 7.0], a, a) - 4.0).abs() < 1e-15);
 }
+
+#[test]
+fn area_gradient_matches_central_differences() {
+    // A doubly curved, irregular patch: the cap with every vertex jittered.
+    let mut m = sphere_cap_grid(7, PI / 3.0, 2.0);
+    for (i, p) in m.positions.iter_mut().enumerate() {
+        let s = (i as f64 * 0.37).sin();
+        *p = add(
+            *p,
+            [0.03 * s, -0.02 * (i as f64 * 1.3).cos(), 0.025 * s * s],
+        );
+    }
+    let g = area_gradient(&m.positions, &m.faces);
+    let h = 1e-6;
+    let mut worst = 0.0f64;
+    for v in 0..m.vertex_count() {
+        for c in 0..3 {
+            let mut plus = m.positions.clone();
+            let mut minus = m.positions.clone();
+            plus[v][c] += h;
+            minus[v][c] -= h;
+            let a_plus: f64 = face_areas(&plus, &m.faces).iter().sum();
+            let a_minus: f64 = face_areas(&minus, &m.faces).iter().sum();
+            let fd = (a_plus - a_minus) / (2.0 * h);
+            worst = worst.max((fd - g[v][c]).abs() / norm(g[v]).max(1e-3));
+        }
+    }
+    assert!(worst < 1e-6, "relative error {worst:e}");
+    // Translation invariance: the gradients sum to zero (Σ ∂A/∂v = ∂A/∂(shift) = 0).
+    let sum = g.iter().fold([0.0; 3], |s, v| add(s, *v));
+    assert!(norm(sum) < 1e-12, "{sum:?}");
+}
