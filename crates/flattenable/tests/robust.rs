@@ -431,6 +431,50 @@ fn detail_target_moves_less_than_the_zero_target_at_no_more_area_change() {
     }
 }
 
+/// With the least-square update the detail filter (target L v⁰) takes its own path, which on
+/// the 12×12 cap ends nearer the input but with more area change than the paper's zero
+/// target (measured: −6.358 % against −6.333 %). The paper's path runs beside it and is
+/// returned, bit for bit, with a message saying why; on the 50×50 saddle the detail path
+/// wins on both (RMS 0.0190 against 0.0201 at the same area change) and is kept.
+#[test]
+fn least_square_detail_target_is_never_worse_than_the_papers() {
+    let ls = |mesh: &TriMesh, target| {
+        robust(
+            mesh,
+            &ProcessOptions {
+                update: Update::LeastSquare,
+                target,
+                ..Default::default()
+            },
+        )
+    };
+    let cap = common::sphere_cap(12);
+    let (detail, zero) = (ls(&cap, Target::Detail), ls(&cap, Target::Zero));
+    assert_flat_unfolded(&cap, &detail);
+    assert_eq!(detail.mesh.positions, zero.mesh.positions);
+    let messages = &detail.report.pieces[0].messages;
+    assert!(
+        messages.iter().any(|m| m.contains("the paper's result is returned")),
+        "{messages:?}"
+    );
+    let saddle = common::saddle(50);
+    let (detail, zero) = (ls(&saddle, Target::Detail), ls(&saddle, Target::Zero));
+    assert_flat_unfolded(&saddle, &detail);
+    let (d, z) = (&detail.report, &zero.report);
+    assert!(
+        d.rms_displacement_mm < 0.97 * z.rms_displacement_mm,
+        "RMS {} vs {}",
+        d.rms_displacement_mm,
+        z.rms_displacement_mm
+    );
+    assert!(
+        d.area_change_percent.abs() <= z.area_change_percent.abs() + 1e-7,
+        "area change {} % vs {} %",
+        d.area_change_percent,
+        z.area_change_percent
+    );
+}
+
 /// The bench's 92×92 cap (16.6k faces): the detail target's first pull-back there is not
 /// restored to θ = 2π within the restoring iterations (on the 100×100 cap, where this was
 /// first seen, it was with 30 of them, at more displacement than before it: RMS 0.07118 →
