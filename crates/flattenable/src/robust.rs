@@ -346,7 +346,7 @@ pub fn run_coarse_level(
     opts: &ProcessOptions,
     report: &mut PieceReport,
 ) -> RobustOutcome {
-    run_inner(piece, start, opts, None, Polish::Global, report)
+    run_inner(piece, start, opts, None, Polish::Coarse, report)
 }
 
 /// How a run ends.
@@ -359,6 +359,10 @@ enum Polish {
     /// This is a region's run, started at the parent's damping (where the parent's steps
     /// were good); it does not split again.
     Region { mu: f64 },
+    /// A coarse level of coarse-to-fine: global steps, and no pull-backs (the level's result
+    /// only starts the next one, and a pull-back there would send the detail target's fine
+    /// level down another path than the zero target's).
+    Coarse,
 }
 
 /// [`run_from`], ending as `polish` says.
@@ -427,7 +431,7 @@ fn run_inner(
     // (the direct update's is the zero target's), so that the pull-backs trade no area
     // change for their shorter displacement.
     let mut area_goal: Option<f64> = None;
-    let mut pull_backs = if opts.target == Target::Detail {
+    let mut pull_backs = if opts.target == Target::Detail && !matches!(polish, Polish::Coarse) {
         PULL_BACKS
     } else {
         0
@@ -523,7 +527,15 @@ fn run_inner(
                 .messages
                 .push(format!("pull-back undone after {spent} iterations: {why}"));
         }
-        if pull_backs > 0 && ls.is_none() && err <= PULL_BACK_AT_RAD {
+        // The first pull-back waits for the tolerance: the state before it is then the zero
+        // target's result (the same path bit for bit), so holding its area and undoing what
+        // does not beat it compares with that result itself, not with a point on its way.
+        let pull_back_at = if report.pull_backs == 0 {
+            opts.tolerance_rad.min(PULL_BACK_AT_RAD)
+        } else {
+            PULL_BACK_AT_RAD
+        };
+        if pull_backs > 0 && ls.is_none() && err <= pull_back_at {
             let interior = piece.interior_of(&pos);
             // Σ ‖v⁰ − v‖² now: what the pull-back must shorten, and what it is judged against
             // once θ = 2π is restored.
@@ -676,7 +688,7 @@ fn run_inner(
         if local
             && ls.is_none()
             && restoring.is_none()
-            && pull_backs == 0
+            && (pull_backs == 0 || report.pull_backs == 0)
             && n >= LOCAL_MIN_INTERIOR
             && report.iterations >= local_retry_at
             && let Some(done) = polish_region(piece, &pos, (&theta, f, dead_zone), mu, opts, report)
