@@ -39,9 +39,9 @@ pub struct ProcessArgs {
     #[arg(long, default_value = "cotan", value_parser = parse_laplacian)]
     pub laplacian: Laplacian,
     /// Target of the least-square update: `detail` (keeps the input's shape; in robust mode
-    /// also pulls the result back towards the input: least total displacement) or `zero`
-    /// (the paper's; shrinks; fewer iterations). Default: detail in robust mode, zero in
-    /// paper mode.
+    /// also pulls the result back towards the input at the same area change: never farther
+    /// from the input nor more shrunk than `zero`) or `zero` (the paper's; shrinks; fewer
+    /// iterations). Default: detail in robust mode, zero in paper mode.
     #[arg(long, value_parser = parse_target)]
     pub target: Option<Target>,
     /// Iteration limit per piece (default 500 robust, 50 paper).
