@@ -55,7 +55,7 @@ pub enum Target {
     /// farther from the input nor of larger area change than `Zero`'s (with the least-square
     /// update, `Zero` runs beside it and is returned when it is not). Measured: up to 5.7 %
     /// less RMS displacement on real pieces (the same on most), at 1.0–2.1× the
-    /// factorisations of `Zero` on the bench caps (1.25× over 19 sizes; twice the CPU with
+    /// factorisations of `Zero` on the bench caps (1.2× over 19 sizes; twice the CPU with
     /// the least-square update); `Zero` is the fast choice.
     #[default]
     Detail,
