@@ -142,7 +142,7 @@ const PULL_BACK_MU: f64 = 1e-10;
 /// this fraction of the input area: the area row is solved by the same Newton steps as θ,
 /// so it ends within round-off of its goal, not exactly on it. 1e-9 is far below the area
 /// change any report prints (0.001 %).
-const AREA_HOLD_SLACK: f64 = 1e-9;
+pub(crate) const AREA_HOLD_SLACK: f64 = 1e-9;
 /// The area row is dropped when a · q is below this fraction of a · G aᵀ: the area gradient
 /// then lies (nearly) in the span of A's rows, and holding the area would need a long step.
 const AREA_ROW_MIN: f64 = 1e-8;
