@@ -974,6 +974,20 @@ fn run_inner(
         report.theta_err.push(err);
         best.record(f, &pos, report.iterations, report.factorizations);
     }
+    // After a pull-back was kept the run can end (iteration limit, stall) short of the
+    // tolerance while its best state, by the merit, is still the converged one before the
+    // pull-backs (the zero target's result): that is what is returned, and it converged.
+    if !report.converged && report.pull_backs > 0 {
+        layout.theta(&best.pos, &mut theta);
+        if Piece::errors(&theta).0 <= opts.tolerance_rad {
+            report.converged = true;
+            report.messages.push(format!(
+                "the pull-backs did not finish ({}): the converged state before them is returned",
+                report.stop_reason
+            ));
+            report.stop_reason = format!("θ_err ≤ {:.1e} rad", opts.tolerance_rad);
+        }
+    }
     if polished.runs > 0 {
         report.messages.push(format!(
             "local polish: {} region runs ({} without gain), {} iterations, regions of up to {} of {n} interior vertices",

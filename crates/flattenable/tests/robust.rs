@@ -451,6 +451,40 @@ fn detail_target_moves_less_than_the_zero_target_at_no_more_area_change() {
     }
 }
 
+/// A run cut short after a kept pull-back (here by the iteration limit, two iterations after
+/// the zero target's run converged) returns the converged state before the pull-backs, the
+/// zero target's result bit for bit, and says it converged.
+#[test]
+fn pull_backs_cut_short_return_the_converged_state_before_them() {
+    let mesh = common::saddle(25);
+    let zero = robust(
+        &mesh,
+        &ProcessOptions {
+            target: Target::Zero,
+            ..Default::default()
+        },
+    );
+    let cut = robust(
+        &mesh,
+        &ProcessOptions {
+            max_iterations: Some(zero.report.pieces[0].iterations + 2),
+            ..Default::default()
+        },
+    );
+    let piece = &cut.report.pieces[0];
+    assert!(piece.converged, "{piece:?}");
+    assert!(piece.pull_backs > 0, "{piece:?}");
+    assert!(
+        piece
+            .messages
+            .iter()
+            .any(|m| m.contains("the converged state before them is returned")),
+        "{:?}",
+        piece.messages
+    );
+    assert_eq!(cut.mesh.positions, zero.mesh.positions);
+}
+
 /// With the least-square update the detail filter (target L v⁰) takes its own path, which on
 /// the 12×12 cap ends nearer the input but with more area change than the paper's zero
 /// target (measured: −6.358 % against −6.333 %). The paper's path runs beside it and is
