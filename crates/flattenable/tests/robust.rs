@@ -4,9 +4,20 @@
 
 mod common;
 
-use flatcut_flattenable::{FlattenableError, ProcessOptions, Processed, Target, Update, process};
+use flatcut_flattenable::{
+    FlattenableError, PieceReport, ProcessOptions, Processed, Target, Update, process,
+};
 use flatcut_mesh::TriMesh;
 use flatcut_mesh::geometry::corner_angles;
+
+/// The piece's report has a message containing `text`.
+fn assert_says(piece: &PieceReport, text: &str) {
+    assert!(
+        piece.messages.iter().any(|m| m.contains(text)),
+        "no message with {text:?}: {:?}",
+        piece.messages
+    );
+}
 
 fn robust(mesh: &TriMesh, opts: &ProcessOptions) -> Processed {
     match process(mesh, opts) {
@@ -474,14 +485,7 @@ fn pull_backs_cut_short_return_the_converged_state_before_them() {
     let piece = &cut.report.pieces[0];
     assert!(piece.converged, "{piece:?}");
     assert!(piece.pull_backs > 0, "{piece:?}");
-    assert!(
-        piece
-            .messages
-            .iter()
-            .any(|m| m.contains("the converged state before them is returned")),
-        "{:?}",
-        piece.messages
-    );
+    assert_says(piece, "the converged state before them is returned");
     assert_eq!(cut.mesh.positions, zero.mesh.positions);
 }
 
@@ -506,13 +510,7 @@ fn least_square_detail_target_is_never_worse_than_the_papers() {
     let (detail, zero) = (ls(&cap, Target::Detail), ls(&cap, Target::Zero));
     assert_flat_unfolded(&cap, &detail);
     assert_eq!(detail.mesh.positions, zero.mesh.positions);
-    let messages = &detail.report.pieces[0].messages;
-    assert!(
-        messages
-            .iter()
-            .any(|m| m.contains("the paper's result is returned")),
-        "{messages:?}"
-    );
+    assert_says(&detail.report.pieces[0], "the paper's result is returned");
     let saddle = common::saddle(50);
     let (detail, zero) = (ls(&saddle, Target::Detail), ls(&saddle, Target::Zero));
     assert_flat_unfolded(&saddle, &detail);
@@ -555,17 +553,12 @@ fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
     assert_flat_unfolded(&mesh, &detail);
     let piece = &detail.report.pieces[0];
     assert_eq!(piece.pull_backs, 1);
-    assert!(
-        piece
-            .messages
-            .iter()
-            .any(|m| m.contains("pull-back undone")),
-        "{:?}",
-        piece.messages
-    );
+    assert_says(piece, "pull-back undone");
     assert_eq!(detail.mesh.positions, zero.mesh.positions);
+    // The pull-back and four restoring iterations in the slow regime (measured 5; ten before
+    // slow restores were undone early).
     let spent = piece.iterations - zero.report.pieces[0].iterations;
-    assert!((1..=11).contains(&spent), "{spent} more iterations");
+    assert!((1..=5).contains(&spent), "{spent} more iterations");
 }
 
 /// A piece that cannot become flat (a 120° cup, total defect 9.1 rad: it could only crumple)
