@@ -529,13 +529,12 @@ fn least_square_detail_target_is_never_worse_than_the_papers() {
     );
 }
 
-/// The bench's 92×92 cap (16.6k faces): the detail target's first pull-back there is not
-/// restored to θ = 2π within the restoring iterations (on the 100×100 cap, where this was
-/// first seen, it was with 30 of them, at more displacement than before it: RMS 0.07118 →
-/// 0.07138; since blow-ups are backtracked deep that cap takes no pull-back at all). Undoing
-/// it restores the whole iteration state, so the run then follows the zero target's path:
-/// the same positions bit for bit, having spent only the pull-back's iterations on top
-/// (release only: ~3 s).
+/// The bench's 92×92 cap (16.6k faces): the detail target's pull-backs there, a long one and
+/// then a short one, are not restored to θ = 2π (on the 100×100 cap, where this was first
+/// seen, restoring ran 30 iterations and ended at more displacement than before: RMS 0.07118
+/// → 0.07138). Undoing one restores the whole iteration state, so the run ends on the zero
+/// target's result: the same positions bit for bit, having spent only the pull-backs'
+/// iterations on top (release only: ~3 s).
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
 fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
@@ -552,13 +551,17 @@ fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
     let (detail, zero) = (run(Target::Detail), run(Target::Zero));
     assert_flat_unfolded(&mesh, &detail);
     let piece = &detail.report.pieces[0];
-    assert_eq!(piece.pull_backs, 1);
-    assert_says(piece, "pull-back undone");
+    assert_eq!(piece.pull_backs, 2);
+    let undone = piece
+        .messages
+        .iter()
+        .filter(|m| m.starts_with("pull-back undone"));
+    assert_eq!(undone.count(), 2, "{:?}", piece.messages);
     assert_eq!(detail.mesh.positions, zero.mesh.positions);
-    // The pull-back and four restoring iterations in the slow regime (measured 5; ten before
-    // slow restores were undone early).
+    // Each pull-back and at most four restoring iterations (slow or refused restores are
+    // undone early; ten each before).
     let spent = piece.iterations - zero.report.pieces[0].iterations;
-    assert!((1..=5).contains(&spent), "{spent} more iterations");
+    assert!((2..=10).contains(&spent), "{spent} more iterations");
 }
 
 /// A piece that cannot become flat (a 120° cup, total defect 9.1 rad: it could only crumple)
