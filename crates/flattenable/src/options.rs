@@ -53,10 +53,10 @@ pub enum Target {
     /// the surface back towards the input along the constraint set (least total
     /// displacement, the paper's Eq. 1) while holding the area, so that the result is never
     /// farther from the input nor of larger area change than `Zero`'s (with the least-square
-    /// update, `Zero` runs beside it and is returned when it is not). Measured: up to 5.7 %
-    /// less RMS displacement on real pieces (the same on most), at 1.0–2.1× the
-    /// factorisations of `Zero` on the bench caps (1.2× over 19 sizes; twice the CPU with
-    /// the least-square update); `Zero` is the fast choice.
+    /// update, `Zero` runs beside it and is returned when it is not). Measured: up to 6.6 %
+    /// less RMS displacement on real pieces (1.3 % on average), 10–40 % on saddles, at
+    /// 1.2–2.5× the factorisations of `Zero` on the bench caps (1.44× over 19 sizes; twice
+    /// the CPU with the least-square update); `Zero` is the fast choice.
     #[default]
     Detail,
 }
