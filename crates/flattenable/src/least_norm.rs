@@ -773,10 +773,7 @@ impl Layout {
                 at[c][2] += g[2] * xi;
             }
         }
-        at.iter()
-            .enumerate()
-            .map(|(c, &v)| metric.apply(c, v))
-            .collect()
+        metric.apply_field(&at)
     }
 
     /// A d, one value per interior vertex.

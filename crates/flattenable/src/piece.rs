@@ -211,8 +211,7 @@ impl Piece {
         } else {
             0.0
         };
-        let a0: f64 = face_areas(&self.pos0, &self.faces).iter().sum();
-        let a1: f64 = face_areas(positions, &self.faces).iter().sum();
+        let (a0, a1) = (self.total_area(&self.pos0), self.total_area(positions));
         report.area_change_percent = if a0 > 0.0 {
             100.0 * (a1 - a0) / a0
         } else {

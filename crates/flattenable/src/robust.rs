@@ -25,8 +25,9 @@
 //! update: the zero target's path, bit for bit) is one more constraint (`AreaRow`: the
 //! pull-back's projection and every restoring step hold it), and a restored pull-back that
 //! still enlarged the area change is undone: the detail target trades no area change for
-//! its shorter displacement. A pull-back whose restoring steps are in the slow, linear
-//! regime after `PULL_BACK_SLOW_AFTER` iterations is undone at once.
+//! its shorter displacement. Pull-backs are long (`PULL_BACK_MAX_ERR_RAD`) until one is
+//! undone, short after; a restore in the slow, linear regime after `PULL_BACK_SLOW_AFTER`
+//! iterations, or refused `PULL_BACK_REFUSALS` times, is undone at once.
 //!
 //! Double roots: after `LIFT_AFTER` iterations without gain, nearly flat vertices with excess
 //! angle (whose rows of A nearly vanish) get a second-order step along their normal
@@ -49,6 +50,7 @@
 use std::f64::consts::TAU;
 
 use flatcut_mesh::geometry::area_gradient;
+use flatcut_mesh::vec3::dot;
 
 use crate::laplacian::LeastSquareUpdate;
 use crate::least_norm::{Factor, Layout, Metric};
@@ -141,12 +143,12 @@ const PULL_BACK_RESTORE_MAX: usize = 10;
 /// 12 kept pull-backs were at most 3e-3 of it after four iterations (or done), the 5 undone
 /// ones at 7e-2 to 0.3; each then spent six more iterations before being undone.
 const PULL_BACK_SLOW_AFTER: usize = 4;
+const PULL_BACK_SLOW_GAIN: f64 = 1e-2;
 /// …and as soon as its trials have been refused this many times in all (each refusal is a
 /// factorisation): every restore that finished took one factorisation per iteration
 /// (fifteenth session, 40 kept pull-backs on caps and saddles), while the long pull-backs
 /// of the 92×92 and 110×110 caps spent 14 and 25 refused trials in four iterations.
 const PULL_BACK_REFUSALS: usize = 3;
-const PULL_BACK_SLOW_GAIN: f64 = 1e-2;
 /// Smallest relative damping of the pull-back's projection (its rows may nearly vanish at
 /// flat vertices; a projection needs no step control, only a defined factorisation).
 const PULL_BACK_MU: f64 = 1e-10;
@@ -313,10 +315,7 @@ struct AreaDirection {
 
 /// Σ a_i · b_i over paired vectors.
 fn dot_fields(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(a, b)| a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
-        .sum()
+    a.iter().zip(b).map(|(a, b)| dot(*a, *b)).sum()
 }
 
 /// Σ ‖a − v‖² over paired points.
@@ -458,15 +457,14 @@ fn run_inner(
     } else {
         0
     };
-    // The iteration of the last pull-back and the state before it, until the plain steps
-    // have restored θ = 2π again and the pull-back is kept or undone.
-    let mut restoring: Option<(usize, Snapshot)> = None;
+    // The iteration of the last pull-back, the merit right after it (what its restoring steps
+    // are judged by) and the state before it, until the plain steps have restored θ = 2π
+    // again and the pull-back is kept or undone.
+    let mut restoring: Option<(usize, f64, Snapshot)> = None;
     // θ_err a pull-back may leave (long ones first, short ones after one is undone).
     let mut pull_back_max_err = PULL_BACK_MAX_ERR_RAD;
     // Set when a restore's trials are refused more than `PULL_BACK_REFUSALS` times.
     let mut restore_refused = false;
-    // The merit right after the last pull-back (what its restoring steps are judged by).
-    let mut pulled_merit = f64::INFINITY;
     // Extra per-vertex stiffness (≥ 1) earned by vertices of faces that would fold.
     let mut stiff = vec![1.0f64; n];
     let mut mu = match polish {
@@ -508,7 +506,7 @@ fn run_inner(
         // A pull-back under way: `None` while its restoring steps go on, then `Some(None)`
         // to keep it or `Some(Some(reason))` to undo it.
         let refused = std::mem::take(&mut restore_refused);
-        let decided = restoring.as_ref().and_then(|(at, before)| {
+        let decided = restoring.as_ref().and_then(|(at, pulled_merit, before)| {
             if refused {
                 Some(Some("its restoring steps kept being refused"))
             } else if err <= PULL_BACK_AT_RAD {
@@ -538,7 +536,7 @@ fn run_inner(
             }
         });
         if let Some(undo) = decided
-            && let Some((_, before)) = restoring.take()
+            && let Some((_, _, before)) = restoring.take()
             && let Some(why) = undo
         {
             // Undo it: back to the state before, damping, stiffness and best state included,
@@ -674,8 +672,7 @@ fn run_inner(
             // The stall test restarts from the pulled-back point; the best state stays the
             // restored one before it until the plain steps beat it.
             best.restart(f, report.iterations, report.factorizations);
-            restoring = Some((report.iterations, before));
-            pulled_merit = f;
+            restoring = Some((report.iterations, f, before));
             continue;
         }
         // A long run without gain, with nearly flat stars left at excess angle: give them
@@ -781,7 +778,7 @@ fn run_inner(
         while mu <= MU_MAX {
             // A restore that finishes takes one factorisation per iteration; one that keeps
             // being refused is blowing up at the near-flat modes and is undone at once.
-            if let Some((at, before)) = &restoring
+            if let Some((at, _, before)) = &restoring
                 && report.factorizations
                     >= before.factorizations + (report.iterations - at) + 1 + PULL_BACK_REFUSALS
             {
@@ -1405,7 +1402,7 @@ mod tests {
         };
         let a_norm: f64 = grad
             .iter()
-            .map(|g| dot_fields(&[*g], &[*g]))
+            .map(|g| flatcut_mesh::vec3::dot(*g, *g))
             .sum::<f64>()
             .sqrt();
         let q_norm = dot_fields(q, q).sqrt();
