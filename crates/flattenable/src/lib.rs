@@ -30,6 +30,6 @@ mod robust;
 
 pub use error::FlattenableError;
 pub use options::{CoarseToFine, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update};
-pub use process::{Processed, process};
+pub use process::{AREA_TIE_PERCENT, Processed, process};
 pub use progress::{IterationDone, ProgressHook};
 pub use report::{CREASE_DEG, PieceReport, ProcessReport};

@@ -411,10 +411,11 @@ fn at_least_as_good(report: &PieceReport, other: &PieceReport) -> bool {
         && report.area_change_percent.abs() <= other.area_change_percent.abs() + AREA_TIE_PERCENT
 }
 
-/// Area changes (percent) this close count as equal when two results are compared: the
-/// detail target's own slack for the area it holds ([`robust::AREA_HOLD_SLACK`] of the input
-/// area), far below the 0.001 % any report prints.
-const AREA_TIE_PERCENT: f64 = 100.0 * robust::AREA_HOLD_SLACK;
+/// Area changes (`PieceReport::area_change_percent`) this close count as equal when two
+/// results are compared: the detail target's own slack for the area it holds (1e-9 of the
+/// input area, `AREA_HOLD_SLACK` in src/robust.rs), far below the 0.001 % any report prints.
+/// The detail target's |area change| is never above the zero target's by more.
+pub const AREA_TIE_PERCENT: f64 = 100.0 * robust::AREA_HOLD_SLACK;
 
 /// Median |2π − θ| over the interior vertices of the piece's input (`theta0`).
 fn median_abs_defect(theta0: &[f64]) -> f64 {

@@ -1,0 +1,248 @@
+//! Properties of `process` on random pieces (proptest): the guarantees the fixed grids of
+//! `robust.rs` check, on surfaces nobody chose. A piece is an n×n grid over [−1, 1]² with its
+//! interior vertices jittered in the plane (so valences and angles vary), lifted onto a random
+//! cubic height field: caps, saddles, ridges, valleys and mixtures of them.
+
+#![allow(clippy::unwrap_used)]
+
+mod common;
+
+use flatcut_flattenable::{
+    AREA_TIE_PERCENT, FlattenableError, Mode, ProcessOptions, Processed, Target, Update, process,
+};
+use flatcut_mesh::geometry::{angle_defects, corner_angles, face_normals};
+use flatcut_mesh::vec3::dot;
+use flatcut_mesh::{Topology, TriMesh, VertexId};
+use proptest::prelude::*;
+
+/// Round-off between this file's measures (the mesh crate's unit normals and corner angles)
+/// and the fold guard's tests on unnormalised vectors and cosines. Rough pieces end with
+/// faces held at the guard's limits themselves: corners at the 0.5° floor (measured up to
+/// 4e-12 below it, relatively, by the angles and not below it by the guard's cosines) and
+/// normals turned by 90° (measured cos −5.6e-17 against the guard's positive dot product).
+const CORNER_ROUND_OFF: f64 = 1e-9;
+const NORMAL_ROUND_OFF: f64 = 1e-12;
+
+/// A random piece: `n`×`n` vertices, interior ones moved by up to `jitter` of the spacing in
+/// x and y, on z = Σ c_k m_k(x, y) over the monomials x², xy, y², x³, x²y, xy², y³.
+fn piece(n: usize, jitter: &[(f64, f64)], c: [f64; 7]) -> TriMesh {
+    let mut mesh = common::grid(n, 1.0, |_, _| 0.0);
+    let h = 2.0 / (n - 1) as f64;
+    let topo = Topology::build(&mesh).unwrap();
+    for (v, p) in mesh.positions.iter_mut().enumerate() {
+        if topo.is_interior_vertex(VertexId(v as u32)) {
+            let (jx, jy) = jitter[v % jitter.len()];
+            p[0] += jx * h;
+            p[1] += jy * h;
+        }
+        let (x, y) = (p[0], p[1]);
+        let m = [
+            x * x,
+            x * y,
+            y * y,
+            x * x * x,
+            x * x * y,
+            x * y * y,
+            y * y * y,
+        ];
+        p[2] = m.iter().zip(&c).map(|(m, c)| m * c).sum();
+    }
+    mesh
+}
+
+fn random_piece() -> impl Strategy<Value = TriMesh> {
+    (
+        5usize..=16,
+        prop::collection::vec((-0.3f64..0.3, -0.3f64..0.3), 1..40),
+        prop::array::uniform7(-0.5f64..0.5),
+    )
+        .prop_map(|(n, jitter, c)| piece(n, &jitter, c))
+}
+
+/// The result whether or not it converged (an unconverged run returns its best unfolded
+/// state inside the error); any other error fails the test.
+fn run(mesh: &TriMesh, opts: &ProcessOptions) -> Processed {
+    match process(mesh, opts) {
+        Ok(p) => p,
+        Err(FlattenableError::NotConverged { partial, .. }) => *partial,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// Faces folded at `out` against `input`, counted independently of the crate's guard by the
+/// issue's definition: the normal turned by 90° or more, or a corner newly under 0.5° (one
+/// already under it may not fall below half of itself, as `PieceReport::folded_faces` says),
+/// beyond round-off.
+fn folded_faces(input: &TriMesh, out: &TriMesh) -> usize {
+    let n0 = face_normals(&input.positions, &input.faces);
+    let n1 = face_normals(&out.positions, &out.faces);
+    let a0 = corner_angles(&input.positions, &input.faces);
+    let a1 = corner_angles(&out.positions, &out.faces);
+    let floor = 0.5f64.to_radians();
+    (0..input.faces.len())
+        .filter(|&f| {
+            dot(n0[f], n1[f]) <= -NORMAL_ROUND_OFF
+                || (0..3).any(|k| {
+                    let limit = if a0[f][k] >= floor {
+                        floor
+                    } else {
+                        0.5 * a0[f][k]
+                    };
+                    a1[f][k] < limit * (1.0 - CORNER_ROUND_OFF)
+                })
+        })
+        .count()
+}
+
+/// What every result must be, converged or not: the boundary bit for bit, finite positions,
+/// finite measures, and its folded faces counted right in the report — none in robust mode
+/// (the paper's steps have no fold guard, and paper mode reports what they fold).
+fn assert_sound(input: &TriMesh, out: &Processed) -> Result<(), TestCaseError> {
+    prop_assert_eq!(
+        common::boundary_changed(input, &out.mesh),
+        0,
+        "boundary moved"
+    );
+    prop_assert!(out.mesh.positions.iter().flatten().all(|c| c.is_finite()));
+    let folded = folded_faces(input, &out.mesh);
+    prop_assert_eq!(
+        out.report.folded_faces,
+        folded,
+        "folded faces: the report's against the count of {} mode's result",
+        out.report.mode
+    );
+    let robust = out.report.mode == "robust";
+    if robust {
+        prop_assert_eq!(folded, 0);
+    }
+    let p = &out.report.pieces[0];
+    prop_assert!(p.rms_displacement_mm.is_finite() && p.area_change_percent.is_finite());
+    // Robust mode's success is the tolerance (paper mode's is the paper's terminal test).
+    if p.converged && robust {
+        prop_assert!(p.final_theta_err <= 1e-9, "θ_err {}", p.final_theta_err);
+    }
+    Ok(())
+}
+
+proptest! {
+    // A fixed seed, so that a run of the tests is reproducible; with random seeds each
+    // property held on 9 000 further cases (`cases` raised to 3 000, three runs, release).
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(20261127),
+        ..ProptestConfig::default()
+    })]
+
+    /// The criterion for the detail target, on random pieces: wherever the paper's
+    /// zero target converges, the detail target converges too, with no larger RMS
+    /// displacement and no larger area change — for the direct update (where the pull-backs
+    /// start from the zero target's result) and the least-square one (where the paper's path
+    /// runs beside it).
+    #[test]
+    fn detail_target_is_never_worse_than_zero_on_random_pieces(mesh in random_piece()) {
+        for update in [Update::Direct, Update::LeastSquare] {
+            let with = |target| ProcessOptions { update, target, ..Default::default() };
+            let zero = run(&mesh, &with(Target::Zero));
+            let detail = run(&mesh, &with(Target::Detail));
+            assert_sound(&mesh, &zero)?;
+            assert_sound(&mesh, &detail)?;
+            let (z, d) = (&zero.report.pieces[0], &detail.report.pieces[0]);
+            if z.converged {
+                prop_assert!(d.converged, "{update:?}: zero converged, detail did not: {}", d.stop_reason);
+                prop_assert!(
+                    d.rms_displacement_mm <= z.rms_displacement_mm * (1.0 + 1e-12),
+                    "{update:?}: RMS displacement detail {} > zero {}",
+                    d.rms_displacement_mm,
+                    z.rms_displacement_mm
+                );
+                prop_assert!(
+                    d.area_change_percent.abs() <= z.area_change_percent.abs() + AREA_TIE_PERCENT,
+                    "{update:?}: area change detail {} % vs zero {} %",
+                    d.area_change_percent,
+                    z.area_change_percent
+                );
+            }
+        }
+    }
+
+    /// The paper's Fig. 4 exactly: scaling a piece by a power of two scales every length and
+    /// no angle, bit for bit in floating point, so every threshold of a scale-free method
+    /// takes the same decisions and the result is the input's result scaled, bit for bit. An
+    /// absolute length or area anywhere in the method would show here.
+    #[test]
+    fn scaling_by_a_power_of_two_scales_the_result_bit_for_bit(
+        mesh in random_piece(),
+        k in -7i32..=7,
+    ) {
+        let s = 2f64.powi(k);
+        let mut scaled = mesh.clone();
+        for p in &mut scaled.positions {
+            *p = p.map(|c| c * s);
+        }
+        let opts = ProcessOptions::default();
+        let a = run(&mesh, &opts);
+        let b = run(&scaled, &opts);
+        let (ra, rb) = (&a.report.pieces[0], &b.report.pieces[0]);
+        prop_assert_eq!(ra.iterations, rb.iterations);
+        prop_assert_eq!(ra.factorizations, rb.factorizations);
+        for (p, q) in a.mesh.positions.iter().zip(&b.mesh.positions) {
+            prop_assert_eq!(p.map(|c| c * s), *q);
+        }
+    }
+
+    /// Rough pieces (noise in z of up to 1.5 spacings: scan noise at a fine resolution; at
+    /// the top of that range two in three robust runs do not converge): whatever the outcome,
+    /// in either mode, no panic, the boundary kept, nothing non-finite, the folded faces
+    /// counted right (none in robust mode), and in robust mode the best state returned, its
+    /// RMS |θ − 2π| no worse than the input's.
+    #[test]
+    fn rough_pieces_end_sound_whether_or_not_they_converge(
+        mesh in random_piece(),
+        amplitude in 0.0f64..1.5,
+        noise in prop::collection::vec(-1.0f64..1.0, 1..60),
+        mode in prop_oneof![Just(Mode::Robust), Just(Mode::Paper)],
+    ) {
+        let mut rough = mesh;
+        let n = (rough.vertex_count() as f64).sqrt().round() as usize;
+        let h = 2.0 / (n - 1) as f64;
+        for (v, p) in rough.positions.iter_mut().enumerate() {
+            p[2] += amplitude * noise[v % noise.len()] * h;
+        }
+        let opts = ProcessOptions {
+            mode,
+            max_iterations: Some(60),
+            ..Default::default()
+        };
+        let out = match process(&rough, &opts) {
+            Ok(p) => p,
+            Err(FlattenableError::NotConverged { partial, .. }) => *partial,
+            // Documented: the paper's undamped step needs every interior vertex curved (a
+            // flat star's row of A vanishes), and says so.
+            Err(e @ FlattenableError::Singular { .. }) if mode == Mode::Paper => {
+                prop_assert!(e.to_string().contains("use the robust mode"), "{e}");
+                return Ok(());
+            }
+            Err(e) => panic!("{e}"),
+        };
+        assert_sound(&rough, &out)?;
+        let p = &out.report.pieces[0];
+        // The best state is the one of least ‖θ − 2π‖² (its max may exceed the input's:
+        // measured 1.93 rad from 1.67 on a stalled rough piece).
+        if mode == Mode::Robust {
+            let topo = Topology::build(&rough).unwrap();
+            let defects: Vec<f64> = angle_defects(&rough.positions, &rough.faces, &topo)
+                .into_iter()
+                .flatten()
+                .collect();
+            let input_rms =
+                (defects.iter().map(|d| d * d).sum::<f64>() / defects.len() as f64).sqrt();
+            prop_assert!(
+                p.final_theta_rms <= input_rms * (1.0 + 1e-12),
+                "θ RMS {} from {}",
+                p.final_theta_rms,
+                input_rms
+            );
+        }
+    }
+}
