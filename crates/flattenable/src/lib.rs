@@ -25,6 +25,7 @@ mod paper;
 mod piece;
 mod process;
 mod progress;
+mod pull_back;
 mod report;
 mod robust;
 

@@ -10,7 +10,8 @@ use rayon::prelude::*;
 use crate::piece::Piece;
 use crate::report::{PieceReport, ProcessReport};
 use crate::{
-    FlattenableError, Mode, ProcessOptions, Target, Update, coarse_to_fine, paper, robust,
+    FlattenableError, Mode, ProcessOptions, Target, Update, coarse_to_fine, paper, pull_back,
+    robust,
 };
 
 /// The result of [`process`]: the mesh with new positions (same connectivity, attributes
@@ -413,9 +414,9 @@ fn at_least_as_good(report: &PieceReport, other: &PieceReport) -> bool {
 
 /// Area changes (`PieceReport::area_change_percent`) this close count as equal when two
 /// results are compared: the detail target's own slack for the area it holds (1e-9 of the
-/// input area, `AREA_HOLD_SLACK` in src/robust.rs), far below the 0.001 % any report prints.
+/// input area, `AREA_HOLD_SLACK` in src/pull_back.rs), far below the 0.001 % any report prints.
 /// The detail target's |area change| is never above the zero target's by more.
-pub const AREA_TIE_PERCENT: f64 = 100.0 * robust::AREA_HOLD_SLACK;
+pub const AREA_TIE_PERCENT: f64 = 100.0 * pull_back::AREA_HOLD_SLACK;
 
 /// Median |2π − θ| over the interior vertices of the piece's input (`theta0`).
 fn median_abs_defect(theta0: &[f64]) -> f64 {

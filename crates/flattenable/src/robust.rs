@@ -14,20 +14,11 @@
 //! reduces f by at least 10 %; then the plain damped step finishes (the filter's fixed
 //! point is not θ = 2π, as the paper notes).
 //!
-//! `Target::Detail` adds pull-backs: whenever the surface is back within `PULL_BACK_AT_RAD`
-//! of θ = 2π, one step along the constraint set towards the input (the null-space
-//! projection of v⁰ − v), after which the plain steps restore θ = 2π; the rounds approach a
-//! stationary point of the paper's Eq. 1 (least total displacement), not just the end of a
-//! path of least steps. A pull-back whose restoring steps do not end, within
-//! `PULL_BACK_RESTORE_MAX` iterations, at less displacement than before it is undone (the
-//! whole iteration state), and the run goes on as the zero target's would.
-//! From the first pull-back on, the area where the path before it ended (with the direct
-//! update: the zero target's path, bit for bit) is one more constraint (`AreaRow`: the
-//! pull-back's projection and every restoring step hold it), and a restored pull-back that
-//! still enlarged the area change is undone: the detail target trades no area change for
-//! its shorter displacement. Pull-backs are long (`PULL_BACK_MAX_ERR_RAD`) until one is
-//! undone, short after; a restore in the slow, linear regime after `PULL_BACK_SLOW_AFTER`
-//! iterations, or refused `PULL_BACK_REFUSALS` times, is undone at once.
+//! `Target::Detail` adds pull-backs ([`crate::pull_back`]): near θ = 2π, a move along the
+//! constraint set towards the input, after which the plain steps restore θ = 2π; one that
+//! does not end nearer the input at no larger area change is undone (the whole iteration
+//! state), and the run goes on as the zero target's would. From the first pull-back on,
+//! every step also holds the area (`AreaRow`).
 //!
 //! Double roots: after `LIFT_AFTER` iterations without gain, nearly flat vertices with excess
 //! angle (whose rows of A nearly vanish) get a second-order step along their normal
@@ -49,13 +40,14 @@
 
 use std::f64::consts::TAU;
 
-use flatcut_mesh::geometry::area_gradient;
-use flatcut_mesh::vec3::dot;
-
 use crate::laplacian::LeastSquareUpdate;
-use crate::least_norm::{Factor, Layout, Metric};
+use crate::least_norm::{Layout, Metric};
 use crate::options::{ProcessOptions, Target, Update};
 use crate::piece::{Piece, beyond};
+use crate::pull_back::{
+    self, AreaRow, PULL_BACK_AT_RAD, PULL_BACK_MAX_ERR_RAD, PULL_BACK_REFUSALS,
+    PULL_BACK_SHORT_MAX_ERR_RAD, PULL_BACKS, Restoring, Snapshot, displacement2,
+};
 use crate::report::PieceReport;
 
 /// Initial damping relative to the mean diagonal of A G Aᵀ (the prototype's value).
@@ -102,15 +94,6 @@ const RHO_ACCEPT: f64 = 1e-4;
 /// than 1e-7 the run ends before the zone would act.
 const DEAD_ZONE_FROM_RAD: f64 = 1e-7;
 const DEAD_ZONE_FRACTION: f64 = 0.5;
-/// `Target::Detail`: a pull-back towards the input is taken whenever the surface has been
-/// restored to θ_err below this (radians), i.e. close enough to the constraint set that its
-/// tangent space (the null space of A) is accurate.
-const PULL_BACK_AT_RAD: f64 = 1e-7;
-/// At most this many pull-backs per piece (each costs a factorisation and a few
-/// restoring iterations).
-const PULL_BACKS: usize = 4;
-/// Pull-backs stop when one would shorten the RMS displacement by less than this fraction.
-const PULL_BACK_MIN_GAIN: f64 = 5e-3;
 /// Largest damping divisor after a very good step (ρ > 0.75); smaller when the step was
 /// within a factor 10 of the step cap (the divisor then aims the next step at the cap).
 /// 10 rather than the textbook 3: the end phase needs μ down near 1e-9 before the slow
@@ -118,83 +101,25 @@ const PULL_BACK_MIN_GAIN: f64 = 5e-3;
 /// the linear phase lasted longer than the stall window (cap 100×100 stalled at 1.1e-5, now
 /// converges in ~100 iterations).
 const MU_DOWN: f64 = 10.0;
-/// A pull-back is shortened (halved, at most `PULL_BACK_HALVINGS` times) until θ_err after it
-/// is at most this (radians). Long: the restoring steps then reach another flattenable surface
-/// nearer the input more often than not, and one that is not nearer, or grows the area change,
-/// is undone (fifteenth session: 100×100 saddles RMS −22 % against the zero target instead of
-/// −6 %, wetsuit pieces up to −6.6 % instead of 0; docs/algorithms/flattenable.md,
-/// "Pull-backs that hold the area").
-const PULL_BACK_MAX_ERR_RAD: f64 = 3e-2;
-/// …and after one is undone, the next ones are at most this (radians): short enough that the
-/// linearised tangent space is accurate and the restoring steps need a few iterations (the
-/// sofa's back gains 5.7 % only with these).
-const PULL_BACK_SHORT_MAX_ERR_RAD: f64 = 1e-4;
-const PULL_BACK_HALVINGS: usize = 20;
-/// A pull-back is undone when the plain steps have not restored θ_err ≤ `PULL_BACK_AT_RAD`
-/// within this many iterations. The 41 pull-backs kept on the grids of the speed and target
-/// tables (1k–20k faces) were restored in 1–10 iterations, 34 of them in one; on the 100×100
-/// and 225×225 caps restoring ran 30 iterations and ended with more displacement than
-/// before or not at all (docs/algorithms/flattenable.md, "Pull-backs that do not pay").
-const PULL_BACK_RESTORE_MAX: usize = 10;
-/// …and already after `PULL_BACK_SLOW_AFTER` iterations when the merit has not fallen to
-/// `PULL_BACK_SLOW_GAIN` of its value right after the pull-back: a restore that finishes
-/// does so at second order after a step or three, one that does not is in the linear regime
-/// of the near-flat modes. Over the 19 sweep caps and the 92×92 cap (fifteenth session) the
-/// 12 kept pull-backs were at most 3e-3 of it after four iterations (or done), the 5 undone
-/// ones at 7e-2 to 0.3; each then spent six more iterations before being undone.
-const PULL_BACK_SLOW_AFTER: usize = 4;
-const PULL_BACK_SLOW_GAIN: f64 = 1e-2;
-/// …and as soon as its trials have been refused this many times in all (each refusal is a
-/// factorisation): every restore that finished took one factorisation per iteration
-/// (fifteenth session, 40 kept pull-backs on caps and saddles), while the long pull-backs
-/// of the 92×92 and 110×110 caps spent 14 and 25 refused trials in four iterations.
-const PULL_BACK_REFUSALS: usize = 3;
-/// Smallest relative damping of the pull-back's projection (its rows may nearly vanish at
-/// flat vertices; a projection needs no step control, only a defined factorisation).
-const PULL_BACK_MU: f64 = 1e-10;
-/// A restored pull-back may end with |area − input area| above the held one's by at most
-/// this fraction of the input area: the area row is solved by the same Newton steps as θ,
-/// so it ends within round-off of its goal, not exactly on it. 1e-9 is far below the area
-/// change any report prints (0.001 %).
-pub(crate) const AREA_HOLD_SLACK: f64 = 1e-9;
-/// The area row is dropped when a · q is below this fraction of a · G aᵀ: the area gradient
-/// then lies (nearly) in the span of A's rows, and holding the area would need a long step.
-const AREA_ROW_MIN: f64 = 1e-8;
 
 /// The right-hand side of a step: 2π − θ beyond the merit's dead zone, per interior vertex.
 fn residual_beyond(theta: &[f64], dead_zone: f64) -> Vec<f64> {
     theta.iter().map(|t| beyond(TAU - t, dead_zone)).collect()
 }
 
-/// The iteration state before a pull-back, to undo it (`Target::Detail`).
-struct Snapshot {
-    iterations: usize,
-    factorizations: usize,
-    /// Σ ‖v − v⁰‖² over the interior at `pos`.
-    moved: f64,
-    /// The area the steps hold (`None` before the first pull-back).
-    area_goal: Option<f64>,
-    pos: Vec<[f64; 3]>,
-    mu: f64,
-    stiff: Vec<f64>,
-    best: Best,
-    last_lift: usize,
-    dead_zone: f64,
-}
-
 /// The best state of a run by the merit f = ‖θ − 2π‖² (what the steps decrease; θ_err, the
 /// max, can rise meanwhile), and what the stall and lift tests count from.
 #[derive(Clone)]
-struct Best {
+pub(crate) struct Best {
     merit: f64,
     pos: Vec<[f64; 3]>,
     /// The iteration of the last counted gain (or restart).
-    at: usize,
+    pub(crate) at: usize,
     /// The merit at the last counted gain: a slow steady decrease counts once it adds up to
     /// a 10 % gain (comparing with the previous best would never count it).
     gain_ref: f64,
     /// The report's factorisation count at the last counted gain (or restart).
-    factorizations_at: usize,
+    pub(crate) factorizations_at: usize,
 }
 
 impl Best {
@@ -236,95 +161,6 @@ impl Best {
         iteration >= self.at + STALL_WINDOW
             || factorizations >= self.factorizations_at + STALL_FACTORIZATIONS
     }
-}
-
-/// The area as one more constraint of the step (`Target::Detail`, from its first pull-back
-/// on): min ‖d‖ in the metric subject to A d = b and a · d = goal − area, where a is the
-/// area's gradient over the interior.
-struct AreaRow {
-    /// a: ∂area/∂v per interior vertex.
-    grad: Vec<[f64; 3]>,
-    /// The area to hold.
-    goal: f64,
-    /// goal − area at the point the row was taken.
-    off: f64,
-}
-
-impl AreaRow {
-    fn at(piece: &Piece, positions: &[[f64; 3]], goal: f64) -> Self {
-        let all = area_gradient(positions, &piece.faces);
-        Self {
-            grad: piece.interior_of(&all),
-            goal,
-            off: goal - piece.total_area(positions),
-        }
-    }
-
-    /// q = G aᵀ − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A G aᵀ, the metric's shortest way to change the
-    /// area without changing θ to first order (exactly so at μ = 0), and a · q; one solve
-    /// with the step's factor. `None` when the area gradient lies (nearly) in the span of
-    /// A's rows: then θ = 2π alone fixes the area to first order.
-    fn direction(
-        &self,
-        layout: &Layout,
-        factor: &Factor,
-        grad: &[[f64; 3]],
-        metric: &Metric<'_>,
-    ) -> Option<AreaDirection> {
-        let ga = metric.apply_field(&self.grad);
-        let mut x = layout.apply(grad, &ga);
-        layout.solve(factor, &mut x, 1);
-        if !x.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        let back = layout.step_from_multipliers(grad, metric, &x);
-        let q: Vec<[f64; 3]> = ga
-            .iter()
-            .zip(&back)
-            .map(|(g, b)| [g[0] - b[0], g[1] - b[1], g[2] - b[2]])
-            .collect();
-        let aq = dot_fields(&self.grad, &q);
-        let aga = dot_fields(&self.grad, &ga);
-        (aq.is_finite() && aq > AREA_ROW_MIN * aga).then_some(AreaDirection { q, aq, aga })
-    }
-
-    /// d + y q with y = (`off` − a · d) / (a · q + μ a G aᵀ): a step d for the rows of A,
-    /// completed to the step for A and the area row together (the Schur complement of the
-    /// bordered system, same factor). At μ = 0 it changes the area by exactly `off` to first
-    /// order; with damping μ (relative, as the step's) the area row is damped like A's rows
-    /// once scaled to their mean diagonal, so a damped step does not force the area at the
-    /// cost of θ.
-    fn correct(&self, dir: &AreaDirection, d: Vec<[f64; 3]>, off: f64, mu: f64) -> Vec<[f64; 3]> {
-        let y = (off - dot_fields(&self.grad, &d)) / (dir.aq + mu * dir.aga);
-        d.iter()
-            .zip(&dir.q)
-            .map(|(d, q)| [d[0] + y * q[0], d[1] + y * q[1], d[2] + y * q[2]])
-            .collect()
-    }
-}
-
-/// See [`AreaRow::direction`].
-struct AreaDirection {
-    /// q = G aᵀ − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A G aᵀ per interior vertex.
-    q: Vec<[f64; 3]>,
-    /// a · q.
-    aq: f64,
-    /// a · G aᵀ.
-    aga: f64,
-}
-
-/// Σ a_i · b_i over paired vectors.
-fn dot_fields(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    a.iter().zip(b).map(|(a, b)| dot(*a, *b)).sum()
-}
-
-/// Σ ‖a − v‖² over paired points.
-fn displacement2(anchor: &[[f64; 3]], interior: &[[f64; 3]]) -> f64 {
-    anchor
-        .iter()
-        .zip(interior)
-        .map(|(a, v)| (a[0] - v[0]).powi(2) + (a[1] - v[1]).powi(2) + (a[2] - v[2]).powi(2))
-        .sum()
 }
 
 /// Outcome of a robust run on one piece.
@@ -447,7 +283,11 @@ fn run_inner(
     };
     // Target::Detail: the input the pull-backs move towards, and how many remain.
     let anchor = piece.interior_of(&piece.pos0);
-    let area0 = piece.total_area(&piece.pos0);
+    let input = pull_back::Input {
+        piece,
+        anchor: &anchor,
+        area0: piece.total_area(&piece.pos0),
+    };
     // From the first pull-back on, every step holds the area where the path before it ended
     // (the direct update's is the zero target's), so that the pull-backs trade no area
     // change for their shorter displacement.
@@ -460,7 +300,7 @@ fn run_inner(
     // The iteration of the last pull-back, the merit right after it (what its restoring steps
     // are judged by) and the state before it, until the plain steps have restored θ = 2π
     // again and the pull-back is kept or undone.
-    let mut restoring: Option<(usize, f64, Snapshot)> = None;
+    let mut restoring: Option<Restoring> = None;
     // θ_err a pull-back may leave (long ones first, short ones after one is undone).
     let mut pull_back_max_err = PULL_BACK_MAX_ERR_RAD;
     // Set when a restore's trials are refused more than `PULL_BACK_REFUSALS` times.
@@ -506,37 +346,17 @@ fn run_inner(
         // A pull-back under way: `None` while its restoring steps go on, then `Some(None)`
         // to keep it or `Some(Some(reason))` to undo it.
         let refused = std::mem::take(&mut restore_refused);
-        let decided = restoring.as_ref().and_then(|(at, pulled_merit, before)| {
-            if refused {
-                Some(Some("its restoring steps kept being refused"))
-            } else if err <= PULL_BACK_AT_RAD {
-                // Restored: kept only if it did what it is for, less displacement from the
-                // input (the restoring steps can take back more than the pull-back gave: on
-                // the 100×100 cap the RMS displacement rose from 0.07118 to 0.07138).
-                if displacement2(&anchor, &piece.interior_of(&pos)) >= before.moved {
-                    Some(Some("it did not reduce the displacement from the input"))
-                } else if area_goal.is_some_and(|goal| {
-                    (piece.total_area(&pos) - area0).abs()
-                        > (goal - area0).abs() + AREA_HOLD_SLACK * area0
-                }) {
-                    Some(Some("it enlarged the area change"))
-                } else {
-                    Some(None)
-                }
-            } else if report.iterations >= at + PULL_BACK_RESTORE_MAX {
-                Some(Some(
-                    "θ = 2π was not restored within the restoring iterations",
-                ))
-            } else if report.iterations >= at + PULL_BACK_SLOW_AFTER
-                && f > PULL_BACK_SLOW_GAIN * pulled_merit
-            {
-                Some(Some("its restoring steps were in the slow, linear regime"))
-            } else {
-                None
-            }
+        let decided = restoring.as_ref().and_then(|r| {
+            pull_back::verdict(
+                r,
+                &input,
+                (&pos, err, f, report.iterations),
+                area_goal,
+                refused,
+            )
         });
         if let Some(undo) = decided
-            && let Some((_, _, before)) = restoring.take()
+            && let Some(Restoring { before, .. }) = restoring.take()
             && let Some(why) = undo
         {
             // Undo it: back to the state before, damping, stiffness and best state included,
@@ -592,13 +412,6 @@ fn run_inner(
                 dead_zone,
             };
             let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
-            // Detail target: near the constraint set, move along its tangent space towards
-            // the input — p = z − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A z with z = v⁰ − v, the G⁻¹-projection
-            // of z onto the null space of A — then let the plain steps restore θ = 2π. The
-            // rounds converge to a point of the constraint set where v⁰ − v is normal to it:
-            // a stationary point of the paper's Eq. 1 (min Σ ‖v − v⁰‖², θ = 2π), i.e. the
-            // flattenable surface nearest the input rather than the end of a path of
-            // memoryless least-norm steps.
             pull_backs -= 1;
             let eff: Vec<f64> = scale.iter().zip(&stiff).map(|(s, k)| s / (k * k)).collect();
             let metric = Metric {
@@ -606,64 +419,23 @@ fn run_inner(
                 normals: normals.as_deref(),
                 tangential,
             };
-            layout.normal_matrix(&grad, &metric, &mut normal);
-            let m = layout.mean_diagonal(&normal).max(f64::MIN_POSITIVE);
-            let z: Vec<[f64; 3]> = anchor
-                .iter()
-                .zip(&interior)
-                .map(|(a, v)| [a[0] - v[0], a[1] - v[1], a[2] - v[2]])
-                .collect();
-            let mut taken = false;
-            report.factorizations += 1;
-            if layout
-                .refactor(&mut factor, &normal, mu.max(PULL_BACK_MU) * m, None)
-                .is_ok()
-            {
-                let mut y = layout.apply(&grad, &z);
-                layout.solve(&factor, &mut y, 1);
-                let gy = layout.step_from_multipliers(&grad, &metric, &y);
-                let p: Vec<[f64; 3]> = z
-                    .iter()
-                    .zip(&gy)
-                    .map(|(z, g)| [z[0] - g[0], z[1] - g[1], z[2] - g[2]])
-                    .collect();
-                // …and along the area's level set too: the same projection with the area
-                // gradient as one more row of A, so that the area stays where the path
-                // before the first pull-back ended (`area_goal`).
-                let goal = *area_goal.get_or_insert(piece.total_area(&pos));
-                let row = AreaRow::at(piece, &pos, goal);
-                let p = match row.direction(layout, &factor, &grad, &metric) {
-                    Some(dir) => row.correct(&dir, p, row.off, 0.0),
-                    None => p,
-                };
-                let mut beta = 1.0;
-                let mut cand_theta = vec![0.0; n];
-                for _ in 0..PULL_BACK_HALVINGS {
-                    let moved: Vec<[f64; 3]> = interior
-                        .iter()
-                        .zip(&p)
-                        .map(|(v, p)| [v[0] + beta * p[0], v[1] + beta * p[1], v[2] + beta * p[2]])
-                        .collect();
-                    if displacement2(&anchor, &moved) > (1.0 - 2.0 * PULL_BACK_MIN_GAIN) * z2 {
-                        break;
-                    }
-                    let cand = piece.with_interior(&pos, &moved);
-                    if piece.folded_faces(&cand) == 0 && y.iter().all(|v| v.is_finite()) {
-                        layout.theta(&cand, &mut cand_theta);
-                        if Piece::errors(&cand_theta).0 <= pull_back_max_err {
-                            pos = cand;
-                            taken = true;
-                            break;
-                        }
-                    }
-                    beta *= 0.5;
-                }
-            }
-            if !taken {
+            // The area stays where the path before the first pull-back ended.
+            let goal = *area_goal.get_or_insert(piece.total_area(&pos));
+            let Some(pulled) = pull_back::project(
+                &input,
+                (&pos, &interior, z2),
+                (&grad, &metric),
+                (&mut normal, &mut factor),
+                mu,
+                goal,
+                pull_back_max_err,
+                report,
+            ) else {
                 pull_backs = 0;
                 area_goal = before.area_goal;
                 continue;
-            }
+            };
+            pos = pulled;
             layout.evaluate(&pos, &mut theta, &mut grad);
             (err, f) = Piece::merit(&theta, dead_zone);
             report.iterations += 1;
@@ -672,7 +444,11 @@ fn run_inner(
             // The stall test restarts from the pulled-back point; the best state stays the
             // restored one before it until the plain steps beat it.
             best.restart(f, report.iterations, report.factorizations);
-            restoring = Some((report.iterations, f, before));
+            restoring = Some(Restoring {
+                at: report.iterations,
+                pulled_merit: f,
+                before,
+            });
             continue;
         }
         // A long run without gain, with nearly flat stars left at excess angle: give them
@@ -778,7 +554,7 @@ fn run_inner(
         while mu <= MU_MAX {
             // A restore that finishes takes one factorisation per iteration; one that keeps
             // being refused is blowing up at the near-flat modes and is undone at once.
-            if let Some((at, _, before)) = &restoring
+            if let Some(Restoring { at, before, .. }) = &restoring
                 && report.factorizations
                     >= before.factorizations + (report.iterations - at) + 1 + PULL_BACK_REFUSALS
             {
@@ -1360,81 +1136,7 @@ fn backtrack(
 
 #[cfg(test)]
 mod tests {
-    use super::{AreaRow, dot_fields, first_fraction};
-    use crate::least_norm::Metric;
-    use crate::piece::Piece;
-    use flatcut_mesh::Topology;
-
-    /// The area row's direction q changes the area and not θ (A q = 0 at μ = 0, to round-off
-    /// against ‖A‖ ‖q‖), and a corrected step changes the area by exactly what is asked
-    /// (a · (d + y q) = off), while keeping what it does to θ (A (d + y q) = A d).
-    #[test]
-    fn the_area_row_moves_the_area_and_not_theta() {
-        let mesh = flatcut_mesh::shapes::grid_patch(9, 9, 1.0, |x, y| {
-            (1.0 - x * x - y * y).sqrt() + 0.05 * (3.0 * x).sin() * y
-        });
-        let topo = Topology::build(&mesh).unwrap();
-        let piece = Piece::new(0, (0..81).collect(), &mesh, topo, &[1.0; 81], 0.5).unwrap();
-        let layout = &piece.layout;
-        let n = layout.n();
-        let mut theta = vec![0.0; n];
-        let mut grad = vec![[0.0; 3]; layout.entries()];
-        layout.evaluate(&piece.pos0, &mut theta, &mut grad);
-        let scale = vec![1.0; n];
-        let metric = Metric::isotropic(&scale);
-        let mut normal = vec![0.0; layout.normal_nnz()];
-        layout.normal_matrix(&grad, &metric, &mut normal);
-        let mut factor = layout.new_factor().unwrap();
-        layout.refactor(&mut factor, &normal, 0.0, None).unwrap();
-        let area = piece.total_area(&piece.pos0);
-        let row = AreaRow::at(&piece, &piece.pos0, 1.01 * area);
-        assert!((row.off - 0.01 * area).abs() < 1e-15 * area);
-        let dir = row.direction(layout, &factor, &grad, &metric).unwrap();
-        let (q, aq, aga) = (&dir.q, dir.aq, dir.aga);
-        assert!(aq > 0.0 && aq <= aga, "a·q {aq:e}, a·G·a {aga:e}");
-        let aq_norm = |v: &[[f64; 3]]| {
-            layout
-                .apply(&grad, v)
-                .iter()
-                .map(|x| x * x)
-                .sum::<f64>()
-                .sqrt()
-        };
-        let a_norm: f64 = grad
-            .iter()
-            .map(|g| flatcut_mesh::vec3::dot(*g, *g))
-            .sum::<f64>()
-            .sqrt();
-        let q_norm = dot_fields(q, q).sqrt();
-        assert!(
-            aq_norm(q) < 1e-12 * a_norm * q_norm,
-            "|A q| = {:e}",
-            aq_norm(q)
-        );
-        // Any step: here the least-norm step for b = 2π − θ.
-        let mut x: Vec<f64> = theta.iter().map(|t| std::f64::consts::TAU - t).collect();
-        layout.solve(&factor, &mut x, 1);
-        let d = layout.step_from_multipliers(&grad, &metric, &x);
-        let ad = layout.apply(&grad, &d);
-        let corrected = row.correct(&dir, d, row.off, 0.0);
-        let a_dot = dot_fields(&row.grad, &corrected);
-        assert!(
-            (a_dot - row.off).abs() < 1e-12 * row.off.abs(),
-            "a·d {a_dot:e} vs {:e}",
-            row.off
-        );
-        let ad_corrected = layout.apply(&grad, &corrected);
-        let drift = ad
-            .iter()
-            .zip(&ad_corrected)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-        let scale_ad = ad.iter().map(|a| a.abs()).fold(0.0, f64::max);
-        assert!(
-            drift < 1e-9 * scale_ad,
-            "A d moved by {drift:e} (max |A d| {scale_ad:e})"
-        );
-    }
+    use super::first_fraction;
 
     /// Along a step the merit is the linear model's f (1 − α)² plus a blow-up B αᵖ
     /// (second-order terms: p = 4 for a near-flat star, 2 or 3 for milder ones). No

@@ -1,0 +1,401 @@
+//! Pull-backs of the detail target (`Target::Detail`, robust mode; [`crate::robust`] runs
+//! them): whenever the surface is back within `PULL_BACK_AT_RAD` of θ = 2π, one move along
+//! the constraint set towards the input (the null-space projection of v⁰ − v, [`project`]),
+//! after which the run's plain steps restore θ = 2π. The rounds approach a stationary point
+//! of the paper's Eq. 1 (least total displacement), not just the end of a path of least
+//! steps. A pull-back whose restoring steps do not end, within `PULL_BACK_RESTORE_MAX`
+//! iterations, at less displacement than before it is undone ([`verdict`]; the whole
+//! iteration state, [`Snapshot`]), and the run goes on as the zero target's would.
+//!
+//! From the first pull-back on, the area where the path before it ended (with the direct
+//! update: the zero target's path, bit for bit) is one more constraint ([`AreaRow`]: the
+//! pull-back's projection and every restoring step hold it), and a restored pull-back that
+//! still enlarged the area change is undone: the detail target trades no area change for its
+//! shorter displacement. Pull-backs are long (`PULL_BACK_MAX_ERR_RAD`) until one is undone,
+//! short after; a restore in the slow, linear regime after `PULL_BACK_SLOW_AFTER`
+//! iterations, or refused `PULL_BACK_REFUSALS` times, is undone at once.
+//! docs/algorithms/flattenable.md, "Pull-backs that hold the area".
+
+use flatcut_mesh::geometry::area_gradient;
+use flatcut_mesh::vec3::dot;
+
+use crate::least_norm::{Factor, Layout, Metric};
+use crate::piece::Piece;
+use crate::report::PieceReport;
+use crate::robust::Best;
+
+/// A pull-back towards the input is taken whenever the surface has been
+/// restored to θ_err below this (radians), i.e. close enough to the constraint set that its
+/// tangent space (the null space of A) is accurate.
+pub(crate) const PULL_BACK_AT_RAD: f64 = 1e-7;
+/// At most this many pull-backs per piece (each costs a factorisation and a few
+/// restoring iterations).
+pub(crate) const PULL_BACKS: usize = 4;
+/// Pull-backs stop when one would shorten the RMS displacement by less than this fraction.
+const PULL_BACK_MIN_GAIN: f64 = 5e-3;
+/// A pull-back is shortened (halved, at most `PULL_BACK_HALVINGS` times) until θ_err after it
+/// is at most this (radians). Long: the restoring steps then reach another flattenable surface
+/// nearer the input more often than not, and one that is not nearer, or grows the area change,
+/// is undone (fifteenth session: 100×100 saddles RMS −22 % against the zero target instead of
+/// −6 %, wetsuit pieces up to −6.6 % instead of 0; docs/algorithms/flattenable.md,
+/// "Pull-backs that hold the area").
+pub(crate) const PULL_BACK_MAX_ERR_RAD: f64 = 3e-2;
+/// …and after one is undone, the next ones are at most this (radians): short enough that the
+/// linearised tangent space is accurate and the restoring steps need a few iterations (the
+/// sofa's back gains 5.7 % only with these).
+pub(crate) const PULL_BACK_SHORT_MAX_ERR_RAD: f64 = 1e-4;
+const PULL_BACK_HALVINGS: usize = 20;
+/// A pull-back is undone when the plain steps have not restored θ_err ≤ `PULL_BACK_AT_RAD`
+/// within this many iterations. The 41 pull-backs kept on the grids of the speed and target
+/// tables (1k–20k faces) were restored in 1–10 iterations, 34 of them in one; on the 100×100
+/// and 225×225 caps restoring ran 30 iterations and ended with more displacement than
+/// before or not at all (docs/algorithms/flattenable.md, "Pull-backs that do not pay").
+const PULL_BACK_RESTORE_MAX: usize = 10;
+/// …and already after `PULL_BACK_SLOW_AFTER` iterations when the merit has not fallen to
+/// `PULL_BACK_SLOW_GAIN` of its value right after the pull-back: a restore that finishes
+/// does so at second order after a step or three, one that does not is in the linear regime
+/// of the near-flat modes. Over the 19 sweep caps and the 92×92 cap (fifteenth session) the
+/// 12 kept pull-backs were at most 3e-3 of it after four iterations (or done), the 5 undone
+/// ones at 7e-2 to 0.3; each then spent six more iterations before being undone.
+const PULL_BACK_SLOW_AFTER: usize = 4;
+const PULL_BACK_SLOW_GAIN: f64 = 1e-2;
+/// …and as soon as its trials have been refused this many times in all (each refusal is a
+/// factorisation): every restore that finished took one factorisation per iteration
+/// (fifteenth session, 40 kept pull-backs on caps and saddles), while the long pull-backs
+/// of the 92×92 and 110×110 caps spent 14 and 25 refused trials in four iterations.
+pub(crate) const PULL_BACK_REFUSALS: usize = 3;
+/// Smallest relative damping of the pull-back's projection (its rows may nearly vanish at
+/// flat vertices; a projection needs no step control, only a defined factorisation).
+const PULL_BACK_MU: f64 = 1e-10;
+/// A restored pull-back may end with |area − input area| above the held one's by at most
+/// this fraction of the input area: the area row is solved by the same Newton steps as θ,
+/// so it ends within round-off of its goal, not exactly on it. 1e-9 is far below the area
+/// change any report prints (0.001 %).
+pub(crate) const AREA_HOLD_SLACK: f64 = 1e-9;
+/// The area row is dropped when a · q is below this fraction of a · G aᵀ: the area gradient
+/// then lies (nearly) in the span of A's rows, and holding the area would need a long step.
+const AREA_ROW_MIN: f64 = 1e-8;
+
+/// The iteration state before a pull-back, to undo it.
+pub(crate) struct Snapshot {
+    pub(crate) iterations: usize,
+    pub(crate) factorizations: usize,
+    /// Σ ‖v − v⁰‖² over the interior at `pos`.
+    pub(crate) moved: f64,
+    /// The area the steps hold (`None` before the first pull-back).
+    pub(crate) area_goal: Option<f64>,
+    pub(crate) pos: Vec<[f64; 3]>,
+    pub(crate) mu: f64,
+    pub(crate) stiff: Vec<f64>,
+    pub(crate) best: Best,
+    pub(crate) last_lift: usize,
+    pub(crate) dead_zone: f64,
+}
+
+/// A pull-back being restored.
+pub(crate) struct Restoring {
+    /// The iteration it was taken at.
+    pub(crate) at: usize,
+    /// The merit right after it (what its restoring steps are judged by).
+    pub(crate) pulled_merit: f64,
+    /// The state before it.
+    pub(crate) before: Snapshot,
+}
+
+/// What a run compares its pull-backs with: the piece, its input's interior positions and
+/// its input's area.
+pub(crate) struct Input<'a> {
+    pub(crate) piece: &'a Piece,
+    pub(crate) anchor: &'a [[f64; 3]],
+    pub(crate) area0: f64,
+}
+
+/// The verdict on the pull-back `r` at the run's present state (`pos`, θ_err `err`, merit
+/// `f`, `iteration`; `area_goal` the area held; `refused`: its restoring trials were
+/// refused `PULL_BACK_REFUSALS` times): `None` while its restoring steps go on, then
+/// `Some(None)` to keep it or `Some(Some(reason))` to undo it.
+pub(crate) fn verdict(
+    r: &Restoring,
+    input: &Input<'_>,
+    (pos, err, f, iteration): (&[[f64; 3]], f64, f64, usize),
+    area_goal: Option<f64>,
+    refused: bool,
+) -> Option<Option<&'static str>> {
+    let Input {
+        piece,
+        anchor,
+        area0,
+    } = *input;
+    if refused {
+        Some(Some("its restoring steps kept being refused"))
+    } else if err <= PULL_BACK_AT_RAD {
+        // Restored: kept only if it did what it is for, less displacement from the input
+        // (the restoring steps can take back more than the pull-back gave: on the 100×100
+        // cap the RMS displacement rose from 0.07118 to 0.07138).
+        if displacement2(anchor, &piece.interior_of(pos)) >= r.before.moved {
+            Some(Some("it did not reduce the displacement from the input"))
+        } else if area_goal.is_some_and(|goal| {
+            (piece.total_area(pos) - area0).abs() > (goal - area0).abs() + AREA_HOLD_SLACK * area0
+        }) {
+            Some(Some("it enlarged the area change"))
+        } else {
+            Some(None)
+        }
+    } else if iteration >= r.at + PULL_BACK_RESTORE_MAX {
+        Some(Some(
+            "θ = 2π was not restored within the restoring iterations",
+        ))
+    } else if iteration >= r.at + PULL_BACK_SLOW_AFTER && f > PULL_BACK_SLOW_GAIN * r.pulled_merit {
+        Some(Some("its restoring steps were in the slow, linear regime"))
+    } else {
+        None
+    }
+}
+
+/// The pull-back's move from `pos` (its interior `interior`, Σ ‖v⁰ − v‖² = `z2` there):
+/// near the constraint set, along its tangent space towards the input — p = z − G Aᵀ
+/// (A G Aᵀ + μ m I)⁻¹ A z with z = v⁰ − v, the G⁻¹-projection of z onto the null space of A,
+/// at the run's damping `mu` (at least `PULL_BACK_MU`) — and along the area's level set at
+/// `goal` too (the same projection with the area gradient as one more row of A). Then
+/// halved until it folds nothing and leaves θ_err ≤ `max_err`, while it still shortens the
+/// RMS displacement by `PULL_BACK_MIN_GAIN`. The rounds converge to a point of the
+/// constraint set where v⁰ − v is normal to it: a stationary point of the paper's Eq. 1
+/// (min Σ ‖v − v⁰‖², θ = 2π), i.e. the flattenable surface nearest the input rather than
+/// the end of a path of memoryless least-norm steps.
+///
+/// `grad` is A at `pos`; `normal` and `factor` are the run's buffers (overwritten). Counts
+/// its factorisation in `report`. `None` when no such move exists.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn project(
+    input: &Input<'_>,
+    (pos, interior, z2): (&[[f64; 3]], &[[f64; 3]], f64),
+    (grad, metric): (&[[f64; 3]], &Metric<'_>),
+    (normal, factor): (&mut [f64], &mut Factor),
+    mu: f64,
+    goal: f64,
+    max_err: f64,
+    report: &mut PieceReport,
+) -> Option<Vec<[f64; 3]>> {
+    let piece = input.piece;
+    let layout: &Layout = &piece.layout;
+    layout.normal_matrix(grad, metric, normal);
+    let m = layout.mean_diagonal(normal).max(f64::MIN_POSITIVE);
+    let z: Vec<[f64; 3]> = input
+        .anchor
+        .iter()
+        .zip(interior)
+        .map(|(a, v)| [a[0] - v[0], a[1] - v[1], a[2] - v[2]])
+        .collect();
+    report.factorizations += 1;
+    layout
+        .refactor(factor, normal, mu.max(PULL_BACK_MU) * m, None)
+        .ok()?;
+    let mut y = layout.apply(grad, &z);
+    layout.solve(factor, &mut y, 1);
+    let gy = layout.step_from_multipliers(grad, metric, &y);
+    let p: Vec<[f64; 3]> = z
+        .iter()
+        .zip(&gy)
+        .map(|(z, g)| [z[0] - g[0], z[1] - g[1], z[2] - g[2]])
+        .collect();
+    let row = AreaRow::at(piece, pos, goal);
+    let p = match row.direction(layout, factor, grad, metric) {
+        Some(dir) => row.correct(&dir, p, row.off, 0.0),
+        None => p,
+    };
+    let mut beta = 1.0;
+    let mut cand_theta = vec![0.0; layout.n()];
+    for _ in 0..PULL_BACK_HALVINGS {
+        let moved: Vec<[f64; 3]> = interior
+            .iter()
+            .zip(&p)
+            .map(|(v, p)| [v[0] + beta * p[0], v[1] + beta * p[1], v[2] + beta * p[2]])
+            .collect();
+        if displacement2(input.anchor, &moved) > (1.0 - 2.0 * PULL_BACK_MIN_GAIN) * z2 {
+            break;
+        }
+        let cand = piece.with_interior(pos, &moved);
+        if piece.folded_faces(&cand) == 0 && y.iter().all(|v| v.is_finite()) {
+            layout.theta(&cand, &mut cand_theta);
+            if Piece::errors(&cand_theta).0 <= max_err {
+                return Some(cand);
+            }
+        }
+        beta *= 0.5;
+    }
+    None
+}
+
+/// The area as one more constraint of the step (`Target::Detail`, from its first pull-back
+/// on): min ‖d‖ in the metric subject to A d = b and a · d = goal − area, where a is the
+/// area's gradient over the interior.
+pub(crate) struct AreaRow {
+    /// a: ∂area/∂v per interior vertex.
+    grad: Vec<[f64; 3]>,
+    /// The area to hold.
+    pub(crate) goal: f64,
+    /// goal − area at the point the row was taken.
+    pub(crate) off: f64,
+}
+
+impl AreaRow {
+    pub(crate) fn at(piece: &Piece, positions: &[[f64; 3]], goal: f64) -> Self {
+        let all = area_gradient(positions, &piece.faces);
+        Self {
+            grad: piece.interior_of(&all),
+            goal,
+            off: goal - piece.total_area(positions),
+        }
+    }
+
+    /// q = G aᵀ − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A G aᵀ, the metric's shortest way to change the
+    /// area without changing θ to first order (exactly so at μ = 0), and a · q; one solve
+    /// with the step's factor. `None` when the area gradient lies (nearly) in the span of
+    /// A's rows: then θ = 2π alone fixes the area to first order.
+    pub(crate) fn direction(
+        &self,
+        layout: &Layout,
+        factor: &Factor,
+        grad: &[[f64; 3]],
+        metric: &Metric<'_>,
+    ) -> Option<AreaDirection> {
+        let ga = metric.apply_field(&self.grad);
+        let mut x = layout.apply(grad, &ga);
+        layout.solve(factor, &mut x, 1);
+        if !x.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let back = layout.step_from_multipliers(grad, metric, &x);
+        let q: Vec<[f64; 3]> = ga
+            .iter()
+            .zip(&back)
+            .map(|(g, b)| [g[0] - b[0], g[1] - b[1], g[2] - b[2]])
+            .collect();
+        let aq = dot_fields(&self.grad, &q);
+        let aga = dot_fields(&self.grad, &ga);
+        (aq.is_finite() && aq > AREA_ROW_MIN * aga).then_some(AreaDirection { q, aq, aga })
+    }
+
+    /// d + y q with y = (`off` − a · d) / (a · q + μ a G aᵀ): a step d for the rows of A,
+    /// completed to the step for A and the area row together (the Schur complement of the
+    /// bordered system, same factor). At μ = 0 it changes the area by exactly `off` to first
+    /// order; with damping μ (relative, as the step's) the area row is damped like A's rows
+    /// once scaled to their mean diagonal, so a damped step does not force the area at the
+    /// cost of θ.
+    pub(crate) fn correct(
+        &self,
+        dir: &AreaDirection,
+        d: Vec<[f64; 3]>,
+        off: f64,
+        mu: f64,
+    ) -> Vec<[f64; 3]> {
+        let y = (off - dot_fields(&self.grad, &d)) / (dir.aq + mu * dir.aga);
+        d.iter()
+            .zip(&dir.q)
+            .map(|(d, q)| [d[0] + y * q[0], d[1] + y * q[1], d[2] + y * q[2]])
+            .collect()
+    }
+}
+
+/// See [`AreaRow::direction`].
+pub(crate) struct AreaDirection {
+    /// q = G aᵀ − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A G aᵀ per interior vertex.
+    q: Vec<[f64; 3]>,
+    /// a · q.
+    aq: f64,
+    /// a · G aᵀ.
+    aga: f64,
+}
+
+/// Σ a_i · b_i over paired vectors.
+fn dot_fields(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    a.iter().zip(b).map(|(a, b)| dot(*a, *b)).sum()
+}
+
+/// Σ ‖a − v‖² over paired points.
+pub(crate) fn displacement2(anchor: &[[f64; 3]], interior: &[[f64; 3]]) -> f64 {
+    anchor
+        .iter()
+        .zip(interior)
+        .map(|(a, v)| (a[0] - v[0]).powi(2) + (a[1] - v[1]).powi(2) + (a[2] - v[2]).powi(2))
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{AreaRow, dot_fields};
+    use crate::least_norm::Metric;
+    use crate::piece::Piece;
+    use flatcut_mesh::Topology;
+
+    /// The area row's direction q changes the area and not θ (A q = 0 at μ = 0, to round-off
+    /// against ‖A‖ ‖q‖), and a corrected step changes the area by exactly what is asked
+    /// (a · (d + y q) = off), while keeping what it does to θ (A (d + y q) = A d).
+    #[test]
+    fn the_area_row_moves_the_area_and_not_theta() {
+        let mesh = flatcut_mesh::shapes::grid_patch(9, 9, 1.0, |x, y| {
+            (1.0 - x * x - y * y).sqrt() + 0.05 * (3.0 * x).sin() * y
+        });
+        let topo = Topology::build(&mesh).unwrap();
+        let piece = Piece::new(0, (0..81).collect(), &mesh, topo, &[1.0; 81], 0.5).unwrap();
+        let layout = &piece.layout;
+        let n = layout.n();
+        let mut theta = vec![0.0; n];
+        let mut grad = vec![[0.0; 3]; layout.entries()];
+        layout.evaluate(&piece.pos0, &mut theta, &mut grad);
+        let scale = vec![1.0; n];
+        let metric = Metric::isotropic(&scale);
+        let mut normal = vec![0.0; layout.normal_nnz()];
+        layout.normal_matrix(&grad, &metric, &mut normal);
+        let mut factor = layout.new_factor().unwrap();
+        layout.refactor(&mut factor, &normal, 0.0, None).unwrap();
+        let area = piece.total_area(&piece.pos0);
+        let row = AreaRow::at(&piece, &piece.pos0, 1.01 * area);
+        assert!((row.off - 0.01 * area).abs() < 1e-15 * area);
+        let dir = row.direction(layout, &factor, &grad, &metric).unwrap();
+        let (q, aq, aga) = (&dir.q, dir.aq, dir.aga);
+        assert!(aq > 0.0 && aq <= aga, "a·q {aq:e}, a·G·a {aga:e}");
+        let aq_norm = |v: &[[f64; 3]]| {
+            layout
+                .apply(&grad, v)
+                .iter()
+                .map(|x| x * x)
+                .sum::<f64>()
+                .sqrt()
+        };
+        let a_norm: f64 = grad
+            .iter()
+            .map(|g| flatcut_mesh::vec3::dot(*g, *g))
+            .sum::<f64>()
+            .sqrt();
+        let q_norm = dot_fields(q, q).sqrt();
+        assert!(
+            aq_norm(q) < 1e-12 * a_norm * q_norm,
+            "|A q| = {:e}",
+            aq_norm(q)
+        );
+        // Any step: here the least-norm step for b = 2π − θ.
+        let mut x: Vec<f64> = theta.iter().map(|t| std::f64::consts::TAU - t).collect();
+        layout.solve(&factor, &mut x, 1);
+        let d = layout.step_from_multipliers(&grad, &metric, &x);
+        let ad = layout.apply(&grad, &d);
+        let corrected = row.correct(&dir, d, row.off, 0.0);
+        let a_dot = dot_fields(&row.grad, &corrected);
+        assert!(
+            (a_dot - row.off).abs() < 1e-12 * row.off.abs(),
+            "a·d {a_dot:e} vs {:e}",
+            row.off
+        );
+        let ad_corrected = layout.apply(&grad, &corrected);
+        let drift = ad
+            .iter()
+            .zip(&ad_corrected)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        let scale_ad = ad.iter().map(|a| a.abs()).fold(0.0, f64::max);
+        assert!(
+            drift < 1e-9 * scale_ad,
+            "A d moved by {drift:e} (max |A d| {scale_ad:e})"
+        );
+    }
+}
