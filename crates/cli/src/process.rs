@@ -182,9 +182,10 @@ fn text_report(r: &ProcessReport) -> String {
     );
     outln!(
         o,
-        "θ_err (max |θ − 2π|): {:.3e} → {:.3e} rad (RMS {:.3e})",
+        "θ_err (max |θ − 2π|): {:.3e} → {:.3e} rad (RMS {:.3e} → {:.3e})",
         r.theta_err.first().copied().unwrap_or(0.0),
         r.final_theta_err,
+        r.input_theta_rms,
         r.final_theta_rms
     );
     outln!(
@@ -274,16 +275,11 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
     }
     let (processed, failure) = match outcome {
         Ok(p) => (p, None),
-        Err(FlattenableError::NotConverged {
-            piece,
-            best_theta_err,
-            tolerance,
-            iterations,
-            reason,
-            partial,
-        }) => {
+        Err(e @ FlattenableError::NotConverged { .. }) => {
+            // The library's message (best and input θ_err and RMS, the reason), then what
+            // was written.
             let msg = format!(
-                "{}: piece {piece} did not converge: best θ_err {best_theta_err:.3e} rad (tolerance {tolerance:.1e}) after {iterations} iterations: {reason}{}",
+                "{}: {e}{}",
                 args.input.display(),
                 if args.keep_best {
                     "; the best unfolded state was written"
@@ -291,7 +287,13 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
                     "; nothing written (use --keep-best to write the best unfolded state)"
                 }
             );
-            (*partial, Some(msg))
+            match e {
+                FlattenableError::NotConverged { partial, .. } => (*partial, Some(msg)),
+                other => {
+                    return Err(other)
+                        .with_context(|| format!("cannot process {}", args.input.display()));
+                }
+            }
         }
         Err(e) => {
             return Err(e).with_context(|| format!("cannot process {}", args.input.display()));

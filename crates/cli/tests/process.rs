@@ -163,7 +163,10 @@ fn unconverged_run_fails_and_writes_nothing_unless_asked() {
     assert_eq!(run.status.code(), Some(1));
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(
-        err.contains("did not converge") && err.contains("best θ_err"),
+        err.contains("did not converge")
+            && err.contains("best θ_err")
+            && err.contains(", RMS ")
+            && err.contains("(input "),
         "{err}"
     );
     assert!(!out.exists());

@@ -66,12 +66,19 @@ pub enum FlattenableError {
         folded_faces: usize,
     },
     /// Robust mode could not reach the tolerance; the best unfolded state is in `partial`.
+    /// The best state is the one of least ‖θ − 2π‖² (what the steps decrease): its θ_err
+    /// (the max) is `best_theta_err`, its RMS `best_theta_rms`, and on a rough piece the max
+    /// can be above the input's while the RMS is below it, so both are given with the
+    /// input's.
     #[error(
-        "piece {piece} did not converge: best θ_err {best_theta_err:.3e} rad (tolerance {tolerance:.1e}) after {iterations} iterations: {reason}"
+        "piece {piece} did not converge: best θ_err {best_theta_err:.3e} rad, RMS {best_theta_rms:.3e} (input {input_theta_err:.3e}, RMS {input_theta_rms:.3e}; tolerance {tolerance:.1e}) after {iterations} iterations: {reason}"
     )]
     NotConverged {
         piece: usize,
         best_theta_err: f64,
+        best_theta_rms: f64,
+        input_theta_err: f64,
+        input_theta_rms: f64,
         tolerance: f64,
         iterations: usize,
         reason: String,

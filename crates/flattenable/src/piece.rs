@@ -199,6 +199,11 @@ impl Piece {
         report.final_theta_err = err;
         report.final_theta_rms = if n > 0 { (sq / n as f64).sqrt() } else { 0.0 };
         report.input_total_defect_rad = theta0.iter().map(|t| TAU - t).sum();
+        report.input_theta_rms = if n > 0 {
+            (Self::errors(theta0).1 / n as f64).sqrt()
+        } else {
+            0.0
+        };
         let (mut max_d, mut sum_d2) = (0.0f64, 0.0);
         for &p in &self.layout.interior {
             let d = flatcut_mesh::vec3::dist(positions[p as usize], self.pos0[p as usize]);

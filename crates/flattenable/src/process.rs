@@ -87,6 +87,9 @@ pub fn process(mesh: &TriMesh, opts: &ProcessOptions) -> Result<Processed, Flatt
         return Err(FlattenableError::NotConverged {
             piece: p.piece,
             best_theta_err: p.final_theta_err,
+            best_theta_rms: p.final_theta_rms,
+            input_theta_err: p.theta_err.first().copied().unwrap_or(p.final_theta_err),
+            input_theta_rms: p.input_theta_rms,
             tolerance: opts.tolerance_rad,
             iterations: p.iterations,
             reason: p.stop_reason.clone(),
@@ -471,6 +474,7 @@ fn summarise(
         theta_err,
         final_theta_err: pieces.iter().fold(0.0, |m, p| m.max(p.final_theta_err)),
         final_theta_rms: rms(|p| p.final_theta_rms),
+        input_theta_rms: rms(|p| p.input_theta_rms),
         max_displacement_mm: pieces.iter().fold(0.0, |m, p| m.max(p.max_displacement_mm)),
         rms_displacement_mm: rms(|p| p.rms_displacement_mm),
         area_change_percent: if a0 > 0.0 {

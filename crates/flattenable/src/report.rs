@@ -35,6 +35,10 @@ pub struct PieceReport {
     pub final_theta_err: f64,
     /// RMS of θ − 2π over interior vertices of the returned positions (rad).
     pub final_theta_rms: f64,
+    /// RMS of θ − 2π over interior vertices of the input (rad): what `final_theta_rms` is
+    /// compared with (an unconverged piece is returned at its least ‖θ − 2π‖², whose max can
+    /// be above the input's on rough pieces).
+    pub input_theta_rms: f64,
     /// Σ (2π − θ) over interior vertices of the input (rad): the total Gaussian curvature
     /// the fixed boundary has to absorb. Negative (saddle-like) pieces are hard.
     pub input_total_defect_rad: f64,
@@ -92,6 +96,8 @@ pub struct ProcessReport {
     pub final_theta_err: f64,
     /// RMS of θ − 2π over all interior vertices (rad).
     pub final_theta_rms: f64,
+    /// The same of the input (rad).
+    pub input_theta_rms: f64,
     /// Largest vertex displacement (mm).
     pub max_displacement_mm: f64,
     /// RMS displacement over all interior vertices (mm).

@@ -259,7 +259,30 @@ proptest! {
         };
         let out = match process(&rough, &opts) {
             Ok(p) => p,
-            Err(FlattenableError::NotConverged { partial, .. }) => *partial,
+            Err(e @ FlattenableError::NotConverged { .. }) => {
+                let message = e.to_string();
+                let FlattenableError::NotConverged {
+                    partial,
+                    best_theta_err,
+                    best_theta_rms,
+                    input_theta_err,
+                    input_theta_rms,
+                    ..
+                } = e
+                else {
+                    unreachable!("the arm's pattern")
+                };
+                // The message gives the best state's max and RMS beside the input's.
+                let p = &partial.report.pieces[0];
+                prop_assert_eq!(best_theta_err, p.final_theta_err);
+                prop_assert_eq!(best_theta_rms, p.final_theta_rms);
+                prop_assert_eq!(input_theta_err, p.theta_err[0]);
+                prop_assert_eq!(input_theta_rms, p.input_theta_rms);
+                for value in [best_theta_err, best_theta_rms, input_theta_err, input_theta_rms] {
+                    prop_assert!(message.contains(&format!("{value:.3e}")), "{message}");
+                }
+                *partial
+            }
             // Documented: the paper's undamped step needs every interior vertex curved (a
             // flat star's row of A vanishes), and says so.
             Err(e @ FlattenableError::Singular { .. }) if mode == Mode::Paper => {
@@ -280,6 +303,12 @@ proptest! {
                 .collect();
             let input_rms =
                 (defects.iter().map(|d| d * d).sum::<f64>() / defects.len() as f64).sqrt();
+            prop_assert!(
+                (p.input_theta_rms - input_rms).abs() <= 1e-12 * input_rms,
+                "input RMS {} against {} by the mesh crate",
+                p.input_theta_rms,
+                input_rms
+            );
             prop_assert!(
                 p.final_theta_rms <= input_rms * (1.0 + 1e-12),
                 "θ RMS {} from {}",
