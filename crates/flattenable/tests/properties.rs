@@ -51,8 +51,13 @@ fn piece(n: usize, jitter: &[(f64, f64)], c: [f64; 7]) -> TriMesh {
 }
 
 fn random_piece() -> impl Strategy<Value = TriMesh> {
+    random_piece_of(5..=16)
+}
+
+/// A random piece of `n`×`n` vertices for `n` in `sizes`.
+fn random_piece_of(sizes: std::ops::RangeInclusive<usize>) -> impl Strategy<Value = TriMesh> {
     (
-        5usize..=16,
+        sizes,
         prop::collection::vec((-0.3f64..0.3, -0.3f64..0.3), 1..40),
         prop::array::uniform7(-0.5f64..0.5),
     )
@@ -163,30 +168,72 @@ proptest! {
     /// runs beside it).
     #[test]
     fn detail_target_is_never_worse_than_zero_on_random_pieces(mesh in random_piece()) {
-        for update in [Update::Direct, Update::LeastSquare] {
-            let with = |target| ProcessOptions { update, target, ..Default::default() };
-            let zero = run(&mesh, &with(Target::Zero));
-            let detail = run(&mesh, &with(Target::Detail));
-            assert_sound(&mesh, &zero)?;
-            assert_sound(&mesh, &detail)?;
-            let (z, d) = (&zero.report.pieces[0], &detail.report.pieces[0]);
-            if z.converged {
-                prop_assert!(d.converged, "{update:?}: zero converged, detail did not: {}", d.stop_reason);
-                prop_assert!(
-                    d.rms_displacement_mm <= z.rms_displacement_mm * (1.0 + 1e-12),
-                    "{update:?}: RMS displacement detail {} > zero {}",
-                    d.rms_displacement_mm,
-                    z.rms_displacement_mm
-                );
-                prop_assert!(
-                    d.area_change_percent.abs() <= z.area_change_percent.abs() + AREA_TIE_PERCENT,
-                    "{update:?}: area change detail {} % vs zero {} %",
-                    d.area_change_percent,
-                    z.area_change_percent
-                );
-            }
+        detail_against_zero(&mesh)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 8,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(20261127),
+        ..ProptestConfig::default()
+    })]
+
+    /// The same on pieces of 2k–3.9k faces, which go through a coarse-to-fine hierarchy
+    /// first (`CoarseToFine::min_faces` = 2 000), its rescues, and with the least-square
+    /// update the paper's path beside the detail one.
+    #[test]
+    fn detail_target_is_never_worse_than_zero_through_coarse_to_fine(
+        mesh in random_piece_of(33..=45),
+    ) {
+        detail_against_zero(&mesh)?;
+    }
+}
+
+/// The detail target against the zero target on `mesh`, both updates.
+fn detail_against_zero(mesh: &TriMesh) -> Result<(), TestCaseError> {
+    for update in [Update::Direct, Update::LeastSquare] {
+        let with = |target| ProcessOptions {
+            update,
+            target,
+            ..Default::default()
+        };
+        let zero = run(mesh, &with(Target::Zero));
+        let detail = run(mesh, &with(Target::Detail));
+        assert_sound(mesh, &zero)?;
+        assert_sound(mesh, &detail)?;
+        let (z, d) = (&zero.report.pieces[0], &detail.report.pieces[0]);
+        if z.converged {
+            prop_assert!(
+                d.converged,
+                "{update:?}: zero converged, detail did not: {}",
+                d.stop_reason
+            );
+            prop_assert!(
+                d.rms_displacement_mm <= z.rms_displacement_mm * (1.0 + 1e-12),
+                "{update:?}: RMS displacement detail {} > zero {}",
+                d.rms_displacement_mm,
+                z.rms_displacement_mm
+            );
+            prop_assert!(
+                d.area_change_percent.abs() <= z.area_change_percent.abs() + AREA_TIE_PERCENT,
+                "{update:?}: area change detail {} % vs zero {} %",
+                d.area_change_percent,
+                z.area_change_percent
+            );
         }
     }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(20261127),
+        ..ProptestConfig::default()
+    })]
 
     /// The paper's Fig. 4 exactly: scaling a piece by a power of two scales every length and
     /// no angle, bit for bit in floating point, so every threshold of a scale-free method
