@@ -3,7 +3,8 @@
 //! W = cap|saddle, TARGET=zero, PAPER/LS/TAN to add variants; probe_weights; probe_targets
 //! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA; DIAG=1 shows
 //! where the residual sits; speed [SIZES=…, REPS, TRACE=1, STEP_RATIO=1]; saddles [SEEDS=…, DIAG=1], the
-//! round-off robustness check; SHAPE=bcap for the bench cap).
+//! round-off robustness check; SHAPE=bcap for the bench cap; random [COUNT, NMIN, NMAX, SEED,
+//! TARGET]: a corpus of random pieces).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 
@@ -1070,11 +1071,76 @@ fn main() {
         "saddles" => saddles(),
         "tail" => tail(),
         "coarsen" => coarsen_timing(),
+        "random" => random(),
         other => {
             eprintln!(
-                "unknown table '{other}': use table, probe, probe_weights, probe_targets, real, bodies, speed or saddles"
+                "unknown table '{other}': use table, probe, probe_weights, probe_targets, real, bodies, speed, saddles or random"
             );
             std::process::exit(2);
         }
     }
+}
+
+/// `random`: a corpus of random pieces like `tests/properties.rs`'s (`common::random_piece`),
+/// from a fixed xorshift sequence: `COUNT` pieces (default 60) of n×n vertices, n in
+/// `NMIN..=NMAX` (default 33..=45: 2k–3.9k faces, through coarse-to-fine first), default
+/// options, `TARGET=zero|detail` (default detail). Per piece one line (faces, converged,
+/// iterations, factorisations, seconds, RMS displacement, area change, first message) and
+/// the totals: how a change to the method does on pieces nobody chose.
+fn random() {
+    let count: usize = env_or("COUNT", 60);
+    let (nmin, nmax): (usize, usize) = (env_or("NMIN", 33), env_or("NMAX", 45));
+    let target = match std::env::var("TARGET").as_deref() {
+        Ok("zero") => Target::Zero,
+        _ => Target::Detail,
+    };
+    let opts = ProcessOptions {
+        target,
+        coarse_to_fine: c2f_from_env(),
+        ..Default::default()
+    };
+    let mut s: u64 = env_or("SEED", 0x2026_1127);
+    let mut next = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut conv, mut its, mut facts, mut secs, mut rms) = (0usize, 0usize, 0usize, 0.0, 0.0);
+    for k in 0..count {
+        let n = nmin + ((next() * (nmax - nmin + 1) as f64) as usize).min(nmax - nmin);
+        let jitter: Vec<(f64, f64)> = (0..1 + (next() * 39.0) as usize)
+            .map(|_| (0.6 * next() - 0.3, 0.6 * next() - 0.3))
+            .collect();
+        let c: [f64; 7] = std::array::from_fn(|_| next() - 0.5);
+        let mesh = common::random_piece(n, &jitter, c);
+        let t = std::time::Instant::now();
+        let (r, ok) = match process(&mesh, &opts) {
+            Ok(p) => (p.report, true),
+            Err(FlattenableError::NotConverged { partial, .. }) => (partial.report, false),
+            Err(e) => panic!("{e}"),
+        };
+        let dt = t.elapsed().as_secs_f64();
+        let p = &r.pieces[0];
+        conv += usize::from(ok);
+        its += p.iterations;
+        facts += p.factorizations;
+        secs += dt;
+        rms += p.rms_displacement_mm;
+        println!(
+            "{k:3} {} faces {} it={} fact={} {:.1} ms rmsd={:.5} area={:+.3}% | {}",
+            p.faces,
+            if ok { "conv" } else { "NOTCONV" },
+            p.iterations,
+            p.factorizations,
+            dt * 1e3,
+            p.rms_displacement_mm,
+            p.area_change_percent,
+            p.messages.first().map_or("", String::as_str)
+        );
+    }
+    println!(
+        "total {target:?}: {conv}/{count} converged, {its} iterations, {facts} factorisations, {secs:.2} s, mean RMS displacement {:.5}",
+        rms / count as f64
+    );
 }

@@ -12,7 +12,7 @@ use flatcut_flattenable::{
 };
 use flatcut_mesh::geometry::{angle_defects, corner_angles, face_normals};
 use flatcut_mesh::vec3::dot;
-use flatcut_mesh::{Topology, TriMesh, VertexId};
+use flatcut_mesh::{Topology, TriMesh};
 use proptest::prelude::*;
 
 /// Round-off between this file's measures (the mesh crate's unit normals and corner angles)
@@ -22,33 +22,6 @@ use proptest::prelude::*;
 /// normals turned by 90° (measured cos −5.6e-17 against the guard's positive dot product).
 const CORNER_ROUND_OFF: f64 = 1e-9;
 const NORMAL_ROUND_OFF: f64 = 1e-12;
-
-/// A random piece: `n`×`n` vertices, interior ones moved by up to `jitter` of the spacing in
-/// x and y, on z = Σ c_k m_k(x, y) over the monomials x², xy, y², x³, x²y, xy², y³.
-fn piece(n: usize, jitter: &[(f64, f64)], c: [f64; 7]) -> TriMesh {
-    let mut mesh = common::grid(n, 1.0, |_, _| 0.0);
-    let h = 2.0 / (n - 1) as f64;
-    let topo = Topology::build(&mesh).unwrap();
-    for (v, p) in mesh.positions.iter_mut().enumerate() {
-        if topo.is_interior_vertex(VertexId(v as u32)) {
-            let (jx, jy) = jitter[v % jitter.len()];
-            p[0] += jx * h;
-            p[1] += jy * h;
-        }
-        let (x, y) = (p[0], p[1]);
-        let m = [
-            x * x,
-            x * y,
-            y * y,
-            x * x * x,
-            x * x * y,
-            x * y * y,
-            y * y * y,
-        ];
-        p[2] = m.iter().zip(&c).map(|(m, c)| m * c).sum();
-    }
-    mesh
-}
 
 fn random_piece() -> impl Strategy<Value = TriMesh> {
     random_piece_of(5..=16)
@@ -61,7 +34,7 @@ fn random_piece_of(sizes: std::ops::RangeInclusive<usize>) -> impl Strategy<Valu
         prop::collection::vec((-0.3f64..0.3, -0.3f64..0.3), 1..40),
         prop::array::uniform7(-0.5f64..0.5),
     )
-        .prop_map(|(n, jitter, c)| piece(n, &jitter, c))
+        .prop_map(|(n, jitter, c)| common::random_piece(n, &jitter, c))
 }
 
 /// Any mode, update and target (the boundary ring weighted or not).

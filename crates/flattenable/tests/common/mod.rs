@@ -2,7 +2,7 @@
 #![allow(dead_code, clippy::unwrap_used)]
 
 use flatcut_flattenable::least_norm::{Layout, Metric};
-use flatcut_mesh::{Topology, TriMesh};
+use flatcut_mesh::{Topology, TriMesh, VertexId};
 
 /// A piece's least-norm layout at its input: θ, A, unit weights and A Aᵀ (isotropic metric)
 /// with its mean diagonal — where the step tests, the kernel benchmarks and `measure --
@@ -266,4 +266,32 @@ pub fn perturb_by_one_ulp(mesh: &mut TriMesh, seed: u64) {
             *c *= 1.0 + ((s % 3) as f64 - 1.0) * 2.2e-16;
         }
     }
+}
+
+/// A random piece (`tests/properties.rs`, `measure -- random`): `n`×`n` vertices, interior
+/// ones moved by `jitter` (cycled) of the spacing in x and y, on z = Σ c_k m_k(x, y) over the
+/// monomials x², xy, y², x³, x²y, xy², y³.
+pub fn random_piece(n: usize, jitter: &[(f64, f64)], c: [f64; 7]) -> TriMesh {
+    let mut mesh = grid(n, 1.0, |_, _| 0.0);
+    let h = 2.0 / (n - 1) as f64;
+    let topo = Topology::build(&mesh).unwrap();
+    for (v, p) in mesh.positions.iter_mut().enumerate() {
+        if topo.is_interior_vertex(VertexId(v as u32)) {
+            let (jx, jy) = jitter[v % jitter.len()];
+            p[0] += jx * h;
+            p[1] += jy * h;
+        }
+        let (x, y) = (p[0], p[1]);
+        let m = [
+            x * x,
+            x * y,
+            y * y,
+            x * x * x,
+            x * x * y,
+            x * y * y,
+            y * y * y,
+        ];
+        p[2] = m.iter().zip(&c).map(|(m, c)| m * c).sum();
+    }
+    mesh
 }
