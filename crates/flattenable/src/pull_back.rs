@@ -54,10 +54,13 @@ const PULL_BACK_RESTORE_MAX: usize = 10;
 /// …and already after `PULL_BACK_SLOW_AFTER` iterations when the merit has not fallen to
 /// `PULL_BACK_SLOW_GAIN` of its value right after the pull-back: a restore that finishes
 /// does so at second order after a step or three, one that does not is in the linear regime
-/// of the near-flat modes. Over the 19 sweep caps and the 92×92 cap (fifteenth session) the
-/// 12 kept pull-backs were at most 3e-3 of it after four iterations (or done), the 5 undone
-/// ones at 7e-2 to 0.3; each then spent six more iterations before being undone.
-const PULL_BACK_SLOW_AFTER: usize = 4;
+/// of the near-flat modes. Over the 19 sweep caps (sixteenth session) the 10 kept pull-backs
+/// were at most 5e-3 of it after three iterations (or done), the 17 undone ones at 3.3e-2 to
+/// 0.75 (after two, a kept one was still at 0.66). Three rather than the fifteenth session's
+/// four: the same results on the sweep, the 92×92 and 110×110 caps, the one-ulp saddles
+/// 12²–50², the random corpus and the bundled pipelines, with one iteration less per undone
+/// pull-back (sweep 623 → 606 factorisations).
+const PULL_BACK_SLOW_AFTER: usize = 3;
 const PULL_BACK_SLOW_GAIN: f64 = 1e-2;
 /// …and as soon as its trials have been refused this many times in all (each refusal is a
 /// factorisation): every restore that finished took one factorisation per iteration

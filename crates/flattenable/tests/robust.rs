@@ -556,7 +556,7 @@ fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
         .filter(|m| m.starts_with("pull-back undone"));
     assert_eq!(undone.count(), 2, "{:?}", piece.messages);
     assert_eq!(detail.mesh.positions, zero.mesh.positions);
-    // Each pull-back and at most four restoring iterations (slow or refused restores are
+    // Each pull-back and at most three restoring iterations (slow or refused restores are
     // undone early; ten each before).
     let spent = piece.iterations - zero.report.pieces[0].iterations;
     assert!((2..=10).contains(&spent), "{spent} more iterations");
