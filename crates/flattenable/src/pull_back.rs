@@ -193,14 +193,7 @@ pub(crate) fn project(
     layout
         .refactor(factor, normal, mu.max(PULL_BACK_MU) * m, None)
         .ok()?;
-    let mut y = layout.apply(grad, &z);
-    layout.solve(factor, &mut y, 1);
-    let gy = layout.step_from_multipliers(grad, metric, &y);
-    let p: Vec<[f64; 3]> = z
-        .iter()
-        .zip(&gy)
-        .map(|(z, g)| [z[0] - g[0], z[1] - g[1], z[2] - g[2]])
-        .collect();
+    let p = null_space_part(layout, factor, (grad, metric), &z)?;
     let row = AreaRow::at(piece, pos, goal);
     let p = match row.direction(layout, factor, grad, metric) {
         Some(dir) => row.correct(&dir, p, row.off, 0.0),
@@ -218,7 +211,7 @@ pub(crate) fn project(
             break;
         }
         let cand = piece.with_interior(pos, &moved);
-        if piece.folded_faces(&cand) == 0 && y.iter().all(|v| v.is_finite()) {
+        if piece.folded_faces(&cand) == 0 {
             layout.theta(&cand, &mut cand_theta);
             if Piece::errors(&cand_theta).0 <= max_err {
                 return Some(cand);
@@ -263,17 +256,7 @@ impl AreaRow {
         metric: &Metric<'_>,
     ) -> Option<AreaDirection> {
         let ga = metric.apply_field(&self.grad);
-        let mut x = layout.apply(grad, &ga);
-        layout.solve(factor, &mut x, 1);
-        if !x.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        let back = layout.step_from_multipliers(grad, metric, &x);
-        let q: Vec<[f64; 3]> = ga
-            .iter()
-            .zip(&back)
-            .map(|(g, b)| [g[0] - b[0], g[1] - b[1], g[2] - b[2]])
-            .collect();
+        let q = null_space_part(layout, factor, (grad, metric), &ga)?;
         let aq = dot_fields(&self.grad, &q);
         let aga = dot_fields(&self.grad, &ga);
         (aq.is_finite() && aq > AREA_ROW_MIN * aga).then_some(AreaDirection { q, aq, aga })
@@ -298,6 +281,29 @@ impl AreaRow {
             .map(|(d, q)| [d[0] + y * q[0], d[1] + y * q[1], d[2] + y * q[2]])
             .collect()
     }
+}
+
+/// v − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A v with `factor` (of A G Aᵀ + μ m I, A = `grad`, G =
+/// `metric`): the G⁻¹-projection of v onto the null space of A (exactly so at μ = 0). `None`
+/// when the solve is not finite.
+fn null_space_part(
+    layout: &Layout,
+    factor: &Factor,
+    (grad, metric): (&[[f64; 3]], &Metric<'_>),
+    v: &[[f64; 3]],
+) -> Option<Vec<[f64; 3]>> {
+    let mut x = layout.apply(grad, v);
+    layout.solve(factor, &mut x, 1);
+    if !x.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let back = layout.step_from_multipliers(grad, metric, &x);
+    Some(
+        v.iter()
+            .zip(&back)
+            .map(|(v, b)| [v[0] - b[0], v[1] - b[1], v[2] - b[2]])
+            .collect(),
+    )
 }
 
 /// See [`AreaRow::direction`].

@@ -37,6 +37,18 @@ fn random_piece_of(sizes: std::ops::RangeInclusive<usize>) -> impl Strategy<Valu
         .prop_map(|(n, jitter, c)| common::random_piece(n, &jitter, c))
 }
 
+/// `cases` cases from a fixed seed, so that a run of the tests is reproducible. With random
+/// seeds (and `cases` raised to 2 000–3 000, release) each property on the small pieces held
+/// on at least 4 000 more, the coarse-to-fine one on 150.
+fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(20261127),
+        ..ProptestConfig::default()
+    }
+}
+
 /// Any mode, update and target (the boundary ring weighted or not).
 fn options() -> impl Strategy<Value = ProcessOptions> {
     (
@@ -125,14 +137,7 @@ fn assert_sound(input: &TriMesh, out: &Processed) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    // A fixed seed, so that a run of the tests is reproducible. With random seeds (and
-    // `cases` raised to 2 000–3 000, release) each property held on at least 4 000 more.
-    #![proptest_config(ProptestConfig {
-        cases: 64,
-        failure_persistence: None,
-        rng_seed: proptest::test_runner::RngSeed::Fixed(20261127),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(config(64))]
 
     /// The criterion for the detail target, on random pieces: wherever the paper's
     /// zero target converges, the detail target converges too, with no larger RMS
@@ -146,12 +151,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 8,
-        failure_persistence: None,
-        rng_seed: proptest::test_runner::RngSeed::Fixed(20261127),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(config(8))]
 
     /// The same on pieces of 2k–3.9k faces, which go through a coarse-to-fine hierarchy
     /// first (`CoarseToFine::min_faces` = 2 000), its rescues, and with the least-square
@@ -201,12 +201,7 @@ fn detail_against_zero(mesh: &TriMesh) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 64,
-        failure_persistence: None,
-        rng_seed: proptest::test_runner::RngSeed::Fixed(20261127),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(config(64))]
 
     /// The paper's Fig. 4 exactly: scaling a piece by a power of two scales every length and
     /// no angle, bit for bit in floating point, so every threshold of a scale-free method
