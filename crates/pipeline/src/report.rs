@@ -163,6 +163,8 @@ pub struct ProcessSummary {
     pub theta_err_before: f64,
     /// … after (rad).
     pub theta_err_after: f64,
+    /// RMS of θ − 2π before processing (rad).
+    pub theta_rms_before: f64,
     /// RMS of θ − 2π after (rad).
     pub theta_rms_after: f64,
     /// RMS displacement of interior vertices (mm).

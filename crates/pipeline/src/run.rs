@@ -738,6 +738,7 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
                 iterations: r.map_or(0, |r| r.iterations),
                 theta_err_before: r.and_then(|r| r.theta_err.first().copied()).unwrap_or(0.0),
                 theta_err_after: pr.processed.report.final_theta_err,
+                theta_rms_before: pr.processed.report.input_theta_rms,
                 theta_rms_after: pr.processed.report.final_theta_rms,
                 rms_displacement_mm: pr.processed.report.rms_displacement_mm,
                 max_displacement_mm: pr.processed.report.max_displacement_mm,
