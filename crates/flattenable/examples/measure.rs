@@ -1086,7 +1086,8 @@ fn main() {
 /// `NMIN..=NMAX` (default 33..=45: 2k–3.9k faces, through coarse-to-fine first), default
 /// options, `TARGET=zero|detail` (default detail). Per piece one line (faces, converged,
 /// iterations, factorisations, seconds, RMS displacement, area change, first message) and
-/// the totals: how a change to the method does on pieces nobody chose.
+/// the totals: how a change to the method does on pieces nobody chose. `ONLY=k`: piece k
+/// alone, with its messages and θ_err per iteration.
 fn random() {
     let count: usize = env_or("COUNT", 60);
     let (nmin, nmax): (usize, usize) = (env_or("NMIN", 33), env_or("NMAX", 45));
@@ -1106,6 +1107,8 @@ fn random() {
         s ^= s << 17;
         (s >> 11) as f64 / (1u64 << 53) as f64
     };
+    // ONLY=k: piece k alone, with every message and its θ_err per iteration.
+    let only: Option<usize> = std::env::var("ONLY").ok().and_then(|s| s.parse().ok());
     let (mut conv, mut its, mut facts, mut secs, mut rms) = (0usize, 0usize, 0usize, 0.0, 0.0);
     for k in 0..count {
         let n = nmin + ((next() * (nmax - nmin + 1) as f64) as usize).min(nmax - nmin);
@@ -1114,6 +1117,9 @@ fn random() {
             .collect();
         let c: [f64; 7] = std::array::from_fn(|_| next() - 0.5);
         let mesh = common::random_piece(n, &jitter, c);
+        if only.is_some_and(|only| only != k) {
+            continue;
+        }
         let t = std::time::Instant::now();
         let (r, ok) = match process(&mesh, &opts) {
             Ok(p) => (p.report, true),
@@ -1138,6 +1144,17 @@ fn random() {
             p.area_change_percent,
             p.messages.first().map_or("", String::as_str)
         );
+        if only.is_some() {
+            println!(
+                "    input θ_err {:.2e}, total defect {:.3} rad; stop: {}",
+                p.theta_err[0], p.input_total_defect_rad, p.stop_reason
+            );
+            for m in &p.messages {
+                println!("    {m}");
+            }
+            let t: Vec<String> = p.theta_err.iter().map(|e| format!("{e:.1e}")).collect();
+            println!("    θ_err: {}", t.join(" "));
+        }
     }
     println!(
         "total {target:?}: {conv}/{count} converged, {its} iterations, {facts} factorisations, {secs:.2} s, mean RMS displacement {:.5}",
