@@ -369,4 +369,21 @@ proptest! {
             }
         }
     }
+
+    /// A converged result is flattenable to the tolerance, so processing it again changes
+    /// nothing: no iteration, the positions bit for bit (a pipeline or a user may run a piece
+    /// twice), in robust mode with either target and update.
+    #[test]
+    fn processing_a_converged_result_again_changes_nothing(
+        mesh in random_piece(),
+        opts in options().prop_map(|o| ProcessOptions { mode: Mode::Robust, ..o }),
+    ) {
+        let first = run(&mesh, &opts);
+        if first.report.converged {
+            let again = run(&first.mesh, &opts);
+            prop_assert!(again.report.converged);
+            prop_assert_eq!(again.report.iterations, 0);
+            prop_assert_eq!(&again.mesh.positions, &first.mesh.positions);
+        }
+    }
 }
