@@ -275,28 +275,25 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
     }
     let (processed, failure) = match outcome {
         Ok(p) => (p, None),
-        Err(e @ FlattenableError::NotConverged { .. }) => {
-            // The library's message (best and input θ_err and RMS, the reason), then what
-            // was written.
-            let msg = format!(
-                "{}: {e}{}",
-                args.input.display(),
-                if args.keep_best {
-                    "; the best unfolded state was written"
-                } else {
-                    "; nothing written (use --keep-best to write the best unfolded state)"
-                }
-            );
+        Err(e) => {
+            // Not converging is a result (the library's message: best and input θ_err and
+            // RMS, the reason; then what was written); anything else is an error.
+            let message = e.to_string();
             match e {
-                FlattenableError::NotConverged { partial, .. } => (*partial, Some(msg)),
-                other => {
-                    return Err(other)
+                FlattenableError::NotConverged { partial, .. } => {
+                    let written = if args.keep_best {
+                        "; the best unfolded state was written"
+                    } else {
+                        "; nothing written (use --keep-best to write the best unfolded state)"
+                    };
+                    let msg = format!("{}: {message}{written}", args.input.display());
+                    (*partial, Some(msg))
+                }
+                e => {
+                    return Err(e)
                         .with_context(|| format!("cannot process {}", args.input.display()));
                 }
             }
-        }
-        Err(e) => {
-            return Err(e).with_context(|| format!("cannot process {}", args.input.display()));
         }
     };
     let json = serde_json::to_string_pretty(&processed.report)?;
