@@ -166,6 +166,15 @@ fn bench_step_kernels(c: &mut Criterion) {
                     .unwrap_or_else(|e| panic!("{e:?}"))
             })
         });
+        // faer's own numeric factorisation of the same matrix: the reference of the issue's
+        // "a step within 2× of one sparse Cholesky".
+        group.bench_function(format!("faer_cholesky_{faces}_faces"), |b| {
+            b.iter(|| {
+                layout
+                    .refactor_with_faer(&mut factor, black_box(&normal), shift, None)
+                    .unwrap_or_else(|e| panic!("{e:?}"))
+            })
+        });
         let rhs: Vec<f64> = theta.iter().map(|t| std::f64::consts::TAU - t).collect();
         group.bench_function(format!("solve_{faces}_faces"), |b| {
             b.iter(|| {

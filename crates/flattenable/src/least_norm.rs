@@ -31,7 +31,7 @@ use flatcut_mesh::{INVALID, Topology, VertexId};
 use flatcut_mesh::vec3::{angle, sub};
 
 use crate::angle_gradient::corner_gradient_next_previous;
-use flatcut_sparse::solve_llt_in_place;
+use flatcut_sparse::{LltWorkspace, SupernodalLltPlan, solve_llt_in_place};
 
 /// Per-piece sparse structure of A and A G Aᵀ with its symbolic factorisation.
 pub struct Layout {
@@ -62,6 +62,10 @@ pub struct Layout {
     /// `order[k]`.
     order: Vec<u32>,
     symbolic: SymbolicCholesky<u32>,
+    /// What every numeric factorisation of the supernodal `symbolic` shares (our own
+    /// factorisation, `flatcut_sparse::SupernodalLltPlan`); `None` only for an empty system,
+    /// which faer factorises simplicially.
+    plan: Option<SupernodalLltPlan>,
 }
 
 /// A lower CSC pattern symmetrically permuted (new index of old row i: `inv[i]`), in lower
@@ -190,9 +194,12 @@ impl<'a> Metric<'a> {
 /// its page faults each time, which faer's own zeroing of L makes redundant.)
 pub struct Factor {
     values: Vec<f64>,
-    /// The lower values plus the shift (faer reads the matrix from here).
+    /// The lower values plus the shift (the factorisation reads the matrix from here).
     shifted: Vec<f64>,
-    scratch: MemBuffer,
+    /// The buffers of our supernodal factorisation.
+    workspace: Option<LltWorkspace>,
+    /// faer's, made when faer factorises into this factor ([`Layout::refactor_with_faer`]).
+    faer_scratch: Option<MemBuffer>,
 }
 
 /// Why a numeric factorisation failed.
@@ -432,6 +439,13 @@ impl Layout {
         // does not check again (faer's checked view of the pattern was ~2 % of a
         // factorisation at 3.5k faces).
         let pattern = SymbolicSparseColMat::new_checked(n, n, m_col_ptr, None, m_row_idx);
+        let plan = match symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(supernodal) => Some(
+                SupernodalLltPlan::new(supernodal, pattern.as_ref())
+                    .map_err(|e| FactorError::Other(e.to_string()))?,
+            ),
+            SymbolicCholeskyRaw::Simplicial(_) => None,
+        };
         Ok(Self {
             interior,
             index_of,
@@ -446,6 +460,7 @@ impl Layout {
             contrib_ptr,
             order: fwd,
             symbolic,
+            plan,
         })
     }
 
@@ -677,22 +692,59 @@ impl Layout {
     /// The buffers of a factor on this layout, for [`Layout::refactor`] (not yet a valid
     /// factor).
     pub fn new_factor(&self) -> Result<Factor, FactorError> {
-        let scratch = MemBuffer::try_new(
-            self.symbolic
-                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-        )
-        .map_err(|e| FactorError::Other(format!("{e:?}")))?;
+        let workspace = self
+            .plan
+            .as_ref()
+            .map(SupernodalLltPlan::workspace)
+            .transpose()
+            .map_err(|e| FactorError::Other(e.to_string()))?;
         Ok(Factor {
             values: vec![0.0; self.symbolic.len_val()],
             shifted: vec![0.0; self.normal_nnz()],
-            scratch,
+            workspace,
+            faer_scratch: None,
         })
     }
 
     /// [`Layout::factor`] into the buffers of `factor` (made by [`Layout::new_factor`] or
     /// [`Layout::factor`] on this layout). After an error `factor` is not a valid factor
     /// until the next successful call.
+    ///
+    /// The numbers come from `flatcut_sparse::SupernodalLltPlan` (the pattern's updates
+    /// worked out once, faer's dense kernels where the supernodes are wide): the same
+    /// factor as faer's numeric factorisation to round-off, 1.1–1.7× faster on these
+    /// patterns (docs/benchmarks.md, seventeenth session).
     pub fn refactor(
+        &self,
+        factor: &mut Factor,
+        values: &[f64],
+        shift: f64,
+        shift_diag: Option<&[f64]>,
+    ) -> Result<(), FactorError> {
+        self.shift_into(factor, values, shift, shift_diag)?;
+        match (&self.plan, &mut factor.workspace, self.symbolic.raw()) {
+            (Some(plan), Some(workspace), SymbolicCholeskyRaw::Supernodal(supernodal)) => plan
+                .factorize(supernodal, &factor.shifted, &mut factor.values, workspace)
+                .map_err(|_| FactorError::NotPositiveDefinite),
+            _ => self.faer_factorize(factor),
+        }
+    }
+
+    /// [`Layout::refactor`] by faer's own numeric factorisation: the reference "one sparse
+    /// Cholesky" of the issue's speed targets (`measure -- speed`, the step-kernel benchmark).
+    pub fn refactor_with_faer(
+        &self,
+        factor: &mut Factor,
+        values: &[f64],
+        shift: f64,
+        shift_diag: Option<&[f64]>,
+    ) -> Result<(), FactorError> {
+        self.shift_into(factor, values, shift, shift_diag)?;
+        self.faer_factorize(factor)
+    }
+
+    /// `values + shift · I (+ diag(shift_diag))` into `factor.shifted`, checked finite.
+    fn shift_into(
         &self,
         factor: &mut Factor,
         values: &[f64],
@@ -707,7 +759,24 @@ impl Layout {
         if v.iter().any(|x| !x.is_finite()) {
             return Err(FactorError::NotPositiveDefinite);
         }
-        let mat = SparseColMatRef::new(self.pattern.as_ref(), v);
+        Ok(())
+    }
+
+    fn faer_factorize(&self, factor: &mut Factor) -> Result<(), FactorError> {
+        if factor.faer_scratch.is_none() {
+            factor.faer_scratch = Some(
+                MemBuffer::try_new(
+                    self.symbolic
+                        .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+                )
+                .map_err(|e| FactorError::Other(format!("{e:?}")))?,
+            );
+        }
+        let scratch = factor
+            .faer_scratch
+            .as_mut()
+            .ok_or_else(|| FactorError::Other("faer's workspace".to_string()))?;
+        let mat = SparseColMatRef::new(self.pattern.as_ref(), &factor.shifted);
         // faer zeroes L itself before filling it.
         self.symbolic
             .factorize_numeric_llt::<f64>(
@@ -716,7 +785,7 @@ impl Layout {
                 Side::Lower,
                 Default::default(),
                 Par::Seq,
-                MemStack::new(&mut factor.scratch),
+                MemStack::new(scratch),
                 Default::default(),
             )
             .map(|_| ())

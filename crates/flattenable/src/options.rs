@@ -55,7 +55,7 @@ pub enum Target {
     /// farther from the input nor of larger area change than `Zero`'s (with the least-square
     /// update, `Zero` runs beside it and is returned when it is not). Measured: up to 6.6 %
     /// less RMS displacement on real pieces (1.3 % on average), 10–40 % on saddles, at
-    /// 1.2–2.5× the factorisations of `Zero` on the bench caps (1.40× over 19 sizes, 1.13× on
+    /// 1.2–2.5× the factorisations of `Zero` on the bench caps (1.39× over 19 sizes, 1.13× on
     /// random mixed pieces; twice the CPU with the least-square update); `Zero` is the fast choice.
     #[default]
     Detail,

@@ -30,6 +30,10 @@ pub enum SparseError {
     /// The solve produced a NaN or infinity (a nearly singular matrix).
     #[error("the solution is not finite; the matrix is numerically singular")]
     NonFiniteSolution,
+    /// A pattern given to [`crate::SupernodalLltPlan::new`] is not the one its symbolic
+    /// factor was analysed from.
+    #[error("the matrix's pattern does not match its symbolic factorisation: {reason}")]
+    PatternMismatch { reason: String },
     /// faer could not allocate the factor or its workspace, or an index overflowed.
     #[error("the sparse factorisation ran out of memory (n = {n}); the system is too large")]
     OutOfMemory { n: usize },

@@ -12,9 +12,14 @@
 //! - [`solve_llt_in_place`]: an L Lᵀ solve of our own on a faer supernodal factor, for
 //!   factors with many narrow supernodes, where faer's per-supernode dispatch costs more than
 //!   the arithmetic (`flatcut_flattenable`'s A G Aᵀ).
+//! - [`SupernodalLltPlan`]: the numeric factorisation of our own on faer's supernodal
+//!   symbolic factor, for the same patterns factorised again and again: each supernode's
+//!   updates worked out once, register tiles where faer's dispatch would cost more than the
+//!   arithmetic, faer's dense kernels where it would not.
 //!
 //! Used by `flatcut_lscm` (LSCM, ARAP, Gauss–Newton) and `flatcut_trim` (the wire-frame
-//! surface's harmonic lift); `flatcut_flattenable` uses the supernodal solve. It depends on
+//! surface's harmonic lift); `flatcut_flattenable` uses the supernodal factorisation and
+//! solve on faer's symbolic analysis. It depends on
 //! faer only (and pulp, faer's SIMD dispatch), so every crate that needs a sparse SPD solve
 //! can sit on top of it without the crate DAG growing other edges (see
 //! docs/architecture.md).
@@ -35,11 +40,13 @@
 
 mod error;
 mod spd;
+mod supernodal_llt;
 mod supernodal_solve;
 mod triplets;
 
 pub use error::SparseError;
 pub use faer::c64;
 pub use spd::{SpdFactor, SpdPattern, Value};
+pub use supernodal_llt::{DENSE_MIN_COLUMNS, GEMM_MIN_DEPTH, LltWorkspace, SupernodalLltPlan};
 pub use supernodal_solve::solve_llt_in_place;
 pub use triplets::Triplets;
