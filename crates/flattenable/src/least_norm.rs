@@ -11,9 +11,10 @@
 //! [`Layout`] is built once per piece: the CSR pattern of A (row p: p itself, then its
 //! interior one-ring), the lower-triangular CSC pattern of A G Aᵀ (interior vertices
 //! within two rings), the list of products that fill it, and the sparse symbolic Cholesky
-//! factorisation (AMD ordering), reused for every numeric factorisation of the piece. The
-//! same pattern holds Lᵀ L + D of the least-square update (see `laplacian.rs`), so one
-//! symbolic factorisation serves both systems.
+//! factorisation (AMD ordering; faer's supernodal analysis) with the plan of our own numeric
+//! factorisation on it (`flatcut_sparse::SupernodalLltPlan`), reused for every numeric
+//! factorisation of the piece. The same pattern holds Lᵀ L + D of the least-square update
+//! (see `laplacian.rs`), so one symbolic factorisation serves both systems.
 //!
 //! All factorisations run sequentially ([`Par::Seq`]) so that a result does not depend on
 //! the thread count; parallelism is across pieces.

@@ -9,18 +9,18 @@
 //! between factorisations, so [`SupernodalLltPlan`] works all of it out once: where every
 //! entry of A lands in L, which descendants update each supernode, and the local row of
 //! every row they update. A factorisation is then the same left-looking algorithm with only
-//! arithmetic left: per update, a dense lower product accumulated column by column into a
-//! contiguous buffer (axpys) and subtracted through the precomputed rows; per supernode, a
-//! left-looking dense Cholesky of its panel.
+//! arithmetic left: per update, the lower part of a product X Xᵀ subtracted through the
+//! precomputed rows; per supernode, a left-looking dense Cholesky of its panel.
 //!
 //! Where the arithmetic is large enough for faer's dense kernels to pay for their dispatch,
 //! they run: an update from a descendant at least [`GEMM_MIN_DEPTH`] columns wide is one
 //! faer matrix product into a buffer, and a supernode at least [`DENSE_MIN_COLUMNS`] wide
 //! is factorised by faer's dense Cholesky and triangular solve. Below those, the products
 //! are tiles of `TILE_ROWS` × `TILE_COLS` entries kept in registers while the descendant's
-//! columns stream past once, written in plain loops that `pulp` compiles at the machine's
-//! vector width (every entry is summed in increasing column order whatever the width, so
-//! the result does not depend on the machine's vectors).
+//! (or the panel's earlier) columns stream past once, written in plain loops that `pulp`
+//! compiles at the machine's vector width; every entry of a tile is summed in increasing
+//! column order whatever the width, so these paths round alike on every machine (faer's
+//! kernels choose their blocking by CPU, as they did when faer factorised alone).
 //!
 //! The layout read and written is the one of [`crate::solve_llt_in_place`] (faer's
 //! documented `SymbolicSupernodalCholesky` accessors), so faer's solves and ours read the
