@@ -122,6 +122,8 @@ pub fn run(
     let mut dead: Vec<(Vec<usize>, String)> = Vec::new();
     // The best unconverged attempt so far: its merit, positions and report.
     let mut best: Option<(f64, Vec<[f64; 3]>, PieceReport)> = None;
+    // The best state of a fine level cut by its budget near θ = 2π (its merit).
+    let mut crawler: Option<(f64, Vec<[f64; 3]>)> = None;
     let (mut rejected, mut factorizations) = (0usize, 0usize);
     let merit = |p: &[[f64; 3]]| {
         let mut t = vec![0.0; piece.layout.n()];
@@ -177,6 +179,10 @@ pub fn run(
                 }
             },
         };
+        let attempt_crawled = attempt.is_some()
+            && !rep.converged
+            && rep.iterations >= FINE_LEVEL_BUDGET
+            && best_reached(&rep, true) <= CRAWL_AT_RAD;
         if rep.converged {
             // The work of every earlier attempt counts, the best unconverged one's too.
             if let Some((_, _, old)) = best.take() {
@@ -203,7 +209,56 @@ pub fn run(
             ),
         });
         let m = merit(&out);
+        if attempt_crawled && crawler.as_ref().is_none_or(|(b, _)| m < *b) {
+            crawler = Some((m, out.clone()));
+        }
         if best.as_ref().is_none_or(|(b, _, _)| m < *b) {
+            if let Some((_, _, old)) = best.take() {
+                rejected += old.rejected_steps;
+                factorizations += old.factorizations;
+            }
+            best = Some((m, out, rep));
+        } else {
+            rejected += rep.rejected_steps;
+            factorizations += rep.factorizations;
+        }
+    }
+    // Every attempt failed. A fine level cut by its budget near θ = 2π was still converging:
+    // the budget is there so that the direct solve, faster where a cap's fine level crawls,
+    // runs first; when the direct solve and the deeper hierarchies did not converge either
+    // (rough scan pieces), that fine level's best state goes on, once, without a budget.
+    if let Some((m_crawler, start)) = crawler {
+        let mut rep = fresh(report);
+        // As for a fine level: the input's θ_err first, then the start's.
+        let mut theta0 = vec![0.0; piece.layout.n()];
+        piece.layout.theta(&piece.pos0, &mut theta0);
+        rep.theta_err.push(Piece::errors(&theta0).0);
+        let out = robust::run_from(piece, &start, opts, None, &mut rep).positions;
+        let summary = format!(
+            "a fine level cut by its budget near θ = 2π went on from its best state (θ_err {:.1e}) without a budget: {} in {} iterations",
+            rep.theta_err.get(1).copied().unwrap_or(f64::NAN),
+            if rep.converged {
+                "converged".to_string()
+            } else {
+                format!("best θ_err {:.1e}", best_reached(&rep, true))
+            },
+            rep.iterations
+        );
+        notes.push(summary);
+        if rep.converged {
+            if let Some((_, _, old)) = best.take() {
+                rejected += old.rejected_steps;
+                factorizations += old.factorizations;
+            }
+            notes.append(&mut rep.messages);
+            rep.messages = notes;
+            rep.rejected_steps += rejected;
+            rep.factorizations += factorizations;
+            *report = rep;
+            return Ok(out);
+        }
+        let m = merit(&out);
+        if m < m_crawler && best.as_ref().is_none_or(|(b, _, _)| m < *b) {
             if let Some((_, _, old)) = best.take() {
                 rejected += old.rejected_steps;
                 factorizations += old.factorizations;
