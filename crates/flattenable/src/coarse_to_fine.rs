@@ -117,14 +117,11 @@ pub fn run(
     if !direct_first {
         attempts.push(None);
     }
-    let mut notes: Vec<String> = Vec::new();
+    let mut tally = Tally::default();
     // Hierarchies abandoned at their coarsest level: (level face counts, summary).
     let mut dead: Vec<(Vec<usize>, String)> = Vec::new();
-    // The best unconverged attempt so far: its merit, positions and report.
-    let mut best: Option<(f64, Vec<[f64; 3]>, PieceReport)> = None;
     // The best state of a fine level cut by its budget near θ = 2π (its merit).
     let mut crawler: Option<(f64, Vec<[f64; 3]>)> = None;
-    let (mut rejected, mut factorizations) = (0usize, 0usize);
     let merit = |p: &[[f64; 3]]| {
         let mut t = vec![0.0; piece.layout.n()];
         piece.layout.theta(p, &mut t);
@@ -144,7 +141,7 @@ pub fn run(
         let out = match &attempt {
             None => {
                 if k > 0 {
-                    notes.push("solved again from the input".into());
+                    tally.notes.push("solved again from the input".into());
                 }
                 robust::run(piece, opts, &mut rep).positions
             }
@@ -154,12 +151,11 @@ pub fn run(
                 }
                 Pass::NoLevels => continue,
                 Pass::Abandoned(summary) => {
-                    notes.push(format!(
+                    tally.notes.push(format!(
                         "{what} abandoned ({summary}): a coarse level did not reach {:.0e} rad",
                         opts.tolerance_rad.max(c2f.coarse_tolerance_rad)
                     ));
-                    rejected += rep.rejected_steps;
-                    factorizations += rep.factorizations;
+                    tally.count(&rep);
                     continue;
                 }
                 Pass::Fine(out) => {
@@ -184,19 +180,10 @@ pub fn run(
             && rep.iterations >= FINE_LEVEL_BUDGET
             && best_reached(&rep, true) <= CRAWL_AT_RAD;
         if rep.converged {
-            // The work of every earlier attempt counts, the best unconverged one's too.
-            if let Some((_, _, old)) = best.take() {
-                rejected += old.rejected_steps;
-                factorizations += old.factorizations;
-            }
-            notes.append(&mut rep.messages);
-            rep.messages = notes;
-            rep.rejected_steps += rejected;
-            rep.factorizations += factorizations;
-            *report = rep;
+            *report = tally.converged(rep);
             return Ok(out);
         }
-        notes.push(match attempt {
+        tally.notes.push(match attempt {
             None => format!(
                 "the direct solve did not converge (best θ_err {:.1e} in {} iterations)",
                 best_reached(&rep, false),
@@ -212,22 +199,13 @@ pub fn run(
         if attempt_crawled && crawler.as_ref().is_none_or(|(b, _)| m < *b) {
             crawler = Some((m, out.clone()));
         }
-        if best.as_ref().is_none_or(|(b, _, _)| m < *b) {
-            if let Some((_, _, old)) = best.take() {
-                rejected += old.rejected_steps;
-                factorizations += old.factorizations;
-            }
-            best = Some((m, out, rep));
-        } else {
-            rejected += rep.rejected_steps;
-            factorizations += rep.factorizations;
-        }
+        tally.consider(m, out, rep);
     }
     // Every attempt failed. A fine level cut by its budget near θ = 2π was still converging:
     // the budget is there so that the direct solve, faster where a cap's fine level crawls,
     // runs first; when the direct solve and the deeper hierarchies did not converge either
     // (rough scan pieces), that fine level's best state goes on, once, without a budget.
-    if let Some((m_crawler, start)) = crawler {
+    if let Some((_, start)) = crawler {
         let mut rep = fresh(report);
         // As for a fine level: the input's θ_err first, then the start's.
         let mut theta0 = vec![0.0; piece.layout.n()];
@@ -244,42 +222,75 @@ pub fn run(
             },
             rep.iterations
         );
-        notes.push(summary);
+        tally.notes.push(summary);
         if rep.converged {
-            if let Some((_, _, old)) = best.take() {
-                rejected += old.rejected_steps;
-                factorizations += old.factorizations;
-            }
-            notes.append(&mut rep.messages);
-            rep.messages = notes;
-            rep.rejected_steps += rejected;
-            rep.factorizations += factorizations;
-            *report = rep;
+            *report = tally.converged(rep);
             return Ok(out);
         }
-        let m = merit(&out);
-        if m < m_crawler && best.as_ref().is_none_or(|(b, _, _)| m < *b) {
-            if let Some((_, _, old)) = best.take() {
-                rejected += old.rejected_steps;
-                factorizations += old.factorizations;
-            }
-            best = Some((m, out, rep));
-        } else {
-            rejected += rep.rejected_steps;
-            factorizations += rep.factorizations;
-        }
+        // Kept only if nearer θ = 2π than every attempt (its start was one of them).
+        tally.consider(merit(&out), out, rep);
     }
-    let Some((_, out, mut kept)) = best else {
+    let Some((out, kept)) = tally.best() else {
         // Every hierarchy was abandoned and the direct solve already ran first: impossible
         // (the direct solve always leaves a best state), but answer with a plain run.
         return Ok(robust::run(piece, opts, report).positions);
     };
-    notes.append(&mut kept.messages);
-    kept.messages = notes;
-    kept.rejected_steps += rejected;
-    kept.factorizations += factorizations;
     *report = kept;
     Ok(out)
+}
+
+/// The attempts of [`run`] so far: the best unconverged one (its merit ‖θ − 2π‖², positions
+/// and report), the work of the others, and the notes for the final report.
+#[derive(Default)]
+struct Tally {
+    notes: Vec<String>,
+    best: Option<(f64, Vec<[f64; 3]>, PieceReport)>,
+    rejected: usize,
+    factorizations: usize,
+}
+
+impl Tally {
+    /// Counts the work of an attempt that is not kept.
+    fn count(&mut self, rep: &PieceReport) {
+        self.rejected += rep.rejected_steps;
+        self.factorizations += rep.factorizations;
+    }
+
+    /// Keeps an unconverged attempt if its merit `m` is the lowest so far.
+    fn consider(&mut self, m: f64, out: Vec<[f64; 3]>, rep: PieceReport) {
+        if self.best.as_ref().is_none_or(|(b, _, _)| m < *b) {
+            if let Some((_, _, old)) = self.best.take() {
+                self.count(&old);
+            }
+            self.best = Some((m, out, rep));
+        } else {
+            self.count(&rep);
+        }
+    }
+
+    /// The report of `rep`, which converged, with the notes and the work of every earlier
+    /// attempt (the best unconverged one's too).
+    fn converged(mut self, rep: PieceReport) -> PieceReport {
+        if let Some((_, _, old)) = self.best.take() {
+            self.count(&old);
+        }
+        self.finish(rep)
+    }
+
+    /// The best unconverged attempt's positions and report, with the notes and the others'
+    /// work.
+    fn best(mut self) -> Option<(Vec<[f64; 3]>, PieceReport)> {
+        let (_, out, kept) = self.best.take()?;
+        Some((out, self.finish(kept)))
+    }
+
+    fn finish(mut self, mut rep: PieceReport) -> PieceReport {
+        self.notes.append(&mut rep.messages);
+        rep.messages = self.notes;
+        rep.rejected_steps += self.rejected;
+        rep.factorizations += self.factorizations;
+        rep
+    }
 }
 
 /// The lowest θ_err an attempt reached. For a hierarchy `theta_err[0]` is the piece's input,

@@ -42,6 +42,7 @@ mod error;
 mod spd;
 mod supernodal_llt;
 mod supernodal_solve;
+mod supernodes;
 mod triplets;
 
 pub use error::SparseError;

@@ -37,6 +37,7 @@ use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::{Accum, MatMut, MatRef, Par};
 
 use crate::SparseError;
+use crate::supernodes::Supernodes;
 
 /// A descendant this many columns wide or wider updates a supernode through one faer
 /// matrix product (below, the register tiles win: faer's dispatch costs more than a few
@@ -102,14 +103,10 @@ impl SupernodalLltPlan {
                 ),
             });
         }
-        let begin = symbolic.supernode_begin();
-        let end = symbolic.supernode_end();
-        let val_ptr = symbolic.col_ptr_for_val();
-        let row_ptr = symbolic.col_ptr_for_row_idx();
-        let pattern_len = symbolic.nnz_per_super();
-        let row_idx = symbolic.row_idx();
+        let supernodes = Supernodes::of(symbolic);
+        let (begin, end, val_ptr) = (supernodes.begin, supernodes.end, supernodes.val_ptr);
         let ns = symbolic.n_supernodes();
-        let pattern = |s: usize| &row_idx[row_ptr[s] as usize..][..pattern_len[s] as usize];
+        let pattern = |s: usize| supernodes.pattern(s);
         let mut super_of = vec![0u32; n];
         for s in 0..ns {
             for c in begin[s]..end[s] {
@@ -460,10 +457,13 @@ fn factorize(
     products: &mut [f64],
     dense: &mut MemBuffer,
 ) -> Result<(), NotPositiveDefinite> {
-    let begin = symbolic.supernode_begin();
-    let end = symbolic.supernode_end();
-    let val_ptr = symbolic.col_ptr_for_val();
-    let pattern_len = symbolic.nnz_per_super();
+    let Supernodes {
+        begin,
+        end,
+        val_ptr,
+        pattern_len,
+        ..
+    } = Supernodes::of(symbolic);
     let l = &mut l[..plan.len_val];
     l.fill(0.0);
     for (&dst, &a) in plan.a_dst.iter().zip(a_values) {

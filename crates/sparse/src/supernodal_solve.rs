@@ -9,13 +9,11 @@
 //! contiguous slice of L, swept once forward (an axpy into the rows below) and once
 //! backward (a dot product with them).
 //!
-//! The layout read (faer's documented `SymbolicSupernodalCholesky` accessors): supernode s
-//! owns columns `supernode_begin[s]..supernode_end[s]` of L, stored column-major in
-//! `values[col_ptr_for_val[s]..col_ptr_for_val[s + 1]]` with `size + pattern.len()` rows:
-//! first the dense lower triangle of its own columns, then the rows `pattern` =
-//! `row_idx[col_ptr_for_row_idx[s]..][..nnz_per_super[s]]`.
+//! The layout read is faer's documented one (`crate::supernodes`).
 
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
+
+use crate::supernodes::Supernodes;
 
 /// Solves L Lᵀ x = b in place (`x` holds b on entry), L being the numeric supernodal
 /// factor `values` on `symbolic`, in the factor's own (permuted) order.
@@ -55,23 +53,25 @@ impl pulp::WithSimd for Solve<'_> {
 
 #[inline(always)]
 fn solve(symbolic: &SymbolicSupernodalCholesky<u32>, values: &[f64], x: &mut [f64]) {
-    let begin = symbolic.supernode_begin();
-    let end = symbolic.supernode_end();
-    let val_ptr = symbolic.col_ptr_for_val();
-    let row_ptr = symbolic.col_ptr_for_row_idx();
-    let pattern_len = symbolic.nnz_per_super();
-    let row_idx = symbolic.row_idx();
+    let supernodes = Supernodes::of(symbolic);
     let supernode = |s: usize| {
-        let start = begin[s] as usize;
-        let size = end[s] as usize - start;
-        let pattern = &row_idx[row_ptr[s] as usize..][..pattern_len[s] as usize];
-        let block = &values[val_ptr[s] as usize..val_ptr[s + 1] as usize];
-        (start, size, pattern, block)
+        let start = supernodes.begin[s] as usize;
+        let size = supernodes.end[s] as usize - start;
+        let block = &values[supernodes.val_ptr[s] as usize..supernodes.val_ptr[s + 1] as usize];
+        (start, size, supernodes.pattern(s), block)
     };
 
     // The rows below a supernode's own columns, gathered once per supernode (instead of
     // once per column), so the inner loops run over contiguous slices.
-    let mut below = vec![0.0; pattern_len.iter().map(|&l| l as usize).max().unwrap_or(0)];
+    let mut below = vec![
+        0.0;
+        supernodes
+            .pattern_len
+            .iter()
+            .map(|&l| l as usize)
+            .max()
+            .unwrap_or(0)
+    ];
 
     // Forward: L y = b.
     for s in 0..symbolic.n_supernodes() {
