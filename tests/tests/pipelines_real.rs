@@ -40,10 +40,14 @@ fn pipeline(name: &str) -> PathBuf {
 
 /// Runs `name` into `out` on `threads` worker threads (None: rayon's default).
 fn run_into(name: &str, out: &Path, threads: Option<usize>) {
-    let path = pipeline(name);
-    let p = Pipeline::read(&path).unwrap_or_else(|e| panic!("{e}"));
+    let p = Pipeline::read(&pipeline(name)).unwrap_or_else(|e| panic!("{e}"));
+    run_pipeline_into(&p, out, threads);
+}
+
+/// Runs the pipeline `p` into `out` on `threads` worker threads (None: rayon's default).
+fn run_pipeline_into(p: &Pipeline, out: &Path, threads: Option<usize>) {
     flatcut_pipeline::run(
-        &p,
+        p,
         &RunOptions {
             out: Some(out.to_path_buf()),
             threads,
@@ -51,15 +55,21 @@ fn run_into(name: &str, out: &Path, threads: Option<usize>) {
             ..Default::default()
         },
     )
-    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    .unwrap_or_else(|e| panic!("{}: {e}", p.source.display()));
+}
+
+/// Runs `p` into a temporary folder and returns its report.json, parsed.
+fn pipeline_report(p: &Pipeline) -> Value {
+    let tmp = tempfile::tempdir().unwrap();
+    // Named as before (the pipeline's file name), in case a report records it.
+    let out = tmp.path().join(p.source.file_stem().unwrap());
+    run_pipeline_into(p, &out, None);
+    serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap()
 }
 
 /// Runs `name` into a temporary folder and returns its report.json, parsed.
 fn run_report(name: &str) -> Value {
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join(name);
-    run_into(name, &out, None);
-    serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap()
+    pipeline_report(&Pipeline::read(&pipeline(name)).unwrap_or_else(|e| panic!("{e}")))
 }
 
 /// Every file under `dir` but timings.json, by relative path, with its bytes.
@@ -249,20 +259,7 @@ fn mh_body_scanlike_wetsuit_at_10_mm_meets_the_done_when() {
     );
     let p =
         Pipeline::parse(&finer, &path, path.parent().unwrap()).unwrap_or_else(|e| panic!("{e}"));
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("wetsuit-scan-10mm");
-    flatcut_pipeline::run(
-        &p,
-        &RunOptions {
-            out: Some(out.clone()),
-            quiet: true,
-            ..Default::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
-    assert_done_when(&report, &WETSUIT_PIECES);
+    assert_done_when(&pipeline_report(&p), &WETSUIT_PIECES);
 }
 
 #[test]

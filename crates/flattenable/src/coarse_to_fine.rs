@@ -138,6 +138,8 @@ pub fn run(
         } else {
             "rescue coarse-to-fine"
         };
+        // Whether this attempt was a fine level cut by its budget near θ = 2π.
+        let mut crawled = false;
         let out = match &attempt {
             None => {
                 if k > 0 {
@@ -164,21 +166,18 @@ pub fn run(
                     // shape, so the direct solve comes next, before any deeper hierarchy
                     // (one that ends far away, like the saddle-like shoulder's, goes on down
                     // the hierarchies, which is what converges it).
-                    if !rep.converged
-                        && best_reached(&rep, true) <= CRAWL_AT_RAD
+                    let near = !rep.converged && best_reached(&rep, true) <= CRAWL_AT_RAD;
+                    if near
                         && let Some(i) = pending.iter().position(Option::is_none)
                         && let Some(direct) = pending.remove(i)
                     {
                         pending.push_front(direct);
                     }
+                    crawled = near && rep.iterations >= FINE_LEVEL_BUDGET;
                     out
                 }
             },
         };
-        let attempt_crawled = attempt.is_some()
-            && !rep.converged
-            && rep.iterations >= FINE_LEVEL_BUDGET
-            && best_reached(&rep, true) <= CRAWL_AT_RAD;
         if rep.converged {
             *report = tally.converged(rep);
             return Ok(out);
@@ -196,7 +195,7 @@ pub fn run(
             ),
         });
         let m = merit(&out);
-        if attempt_crawled && crawler.as_ref().is_none_or(|(b, _)| m < *b) {
+        if crawled && crawler.as_ref().is_none_or(|(b, _)| m < *b) {
             crawler = Some((m, out.clone()));
         }
         tally.consider(m, out, rep);
@@ -207,10 +206,7 @@ pub fn run(
     // (rough scan pieces), that fine level's best state goes on, once, without a budget.
     if let Some((_, start)) = crawler {
         let mut rep = fresh(report);
-        // As for a fine level: the input's θ_err first, then the start's.
-        let mut theta0 = vec![0.0; piece.layout.n()];
-        piece.layout.theta(&piece.pos0, &mut theta0);
-        rep.theta_err.push(Piece::errors(&theta0).0);
+        push_input_theta_err(piece, &mut rep);
         let out = robust::run_from(piece, &start, opts, None, &mut rep).positions;
         let summary = format!(
             "a fine level cut by its budget near θ = 2π went on from its best state (θ_err {:.1e}) without a budget: {} in {} iterations",
@@ -301,6 +297,11 @@ fn best_reached(rep: &PieceReport, hierarchy: bool) -> f64 {
         .iter()
         .skip(usize::from(hierarchy))
         .fold(f64::INFINITY, |m, &e| m.min(e))
+}
+
+/// A fine level's report starts with the input's θ_err, then its run pushes its start's.
+fn push_input_theta_err(piece: &Piece, report: &mut PieceReport) {
+    report.theta_err.push(Piece::errors(&piece.input_theta()).0);
 }
 
 /// A report for a new attempt: the piece's fields kept, the run's fields reset.
@@ -435,9 +436,7 @@ fn pass(
     }
     let coarse = solution.unwrap_or_else(|| levels[0].mesh.positions.clone());
     let start = start_from(piece, &levels[0], &coarse, c2f.prolongation);
-    let mut theta0 = vec![0.0; piece.layout.n()];
-    piece.layout.theta(&piece.pos0, &mut theta0);
-    report.theta_err.push(Piece::errors(&theta0).0);
+    push_input_theta_err(piece, report);
     let coarse_rejected = report.rejected_steps;
     report.rejected_steps = 0;
     let out = robust::run_from(piece, &start, opts, Some(FINE_LEVEL_BUDGET), report).positions;

@@ -192,7 +192,7 @@ impl<'a> Metric<'a> {
 /// A numeric Cholesky factor of one value set on the layout's pattern, with the buffers
 /// that make it: refactorising into the same `Factor` ([`Layout::refactor`]) reuses them.
 /// (A fresh factor of 1.9 MB at 1681 unknowns, 59 MB at 50k, costs a zeroed allocation and
-/// its page faults each time, which faer's own zeroing of L makes redundant.)
+/// its page faults each time, which the factorisation's own zeroing of L makes redundant.)
 pub struct Factor {
     values: Vec<f64>,
     /// The lower values plus the shift (the factorisation reads the matrix from here).
@@ -764,19 +764,16 @@ impl Layout {
     }
 
     fn faer_factorize(&self, factor: &mut Factor) -> Result<(), FactorError> {
-        if factor.faer_scratch.is_none() {
-            factor.faer_scratch = Some(
+        let scratch = match &mut factor.faer_scratch {
+            Some(scratch) => scratch,
+            None => factor.faer_scratch.insert(
                 MemBuffer::try_new(
                     self.symbolic
                         .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
                 )
                 .map_err(|e| FactorError::Other(format!("{e:?}")))?,
-            );
-        }
-        let scratch = factor
-            .faer_scratch
-            .as_mut()
-            .ok_or_else(|| FactorError::Other("faer's workspace".to_string()))?;
+            ),
+        };
         let mat = SparseColMatRef::new(self.pattern.as_ref(), &factor.shifted);
         // faer zeroes L itself before filling it.
         self.symbolic
