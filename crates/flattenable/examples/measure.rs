@@ -661,7 +661,8 @@ fn cpu_ns() -> u64 {
 /// `speed`: per grid size (env `SIZES`, comma-separated n of n×n caps; `REPS` runs each) the
 /// kernel timings and both targets' runs with their messages; `TRACE=1` adds θ_err per
 /// iteration, `C2F_LEVELS=0` solves without coarse-to-fine, `C2F_MAX` raises its largest
-/// piece (all knobs of `c2f_from_env`), `ONLY_TARGET=zero|detail` runs one target.
+/// piece (all knobs of `c2f_from_env`), `ONLY_TARGET=zero|detail` runs one target
+/// (`none`: the kernels' times only).
 fn speed() {
     let reps: usize = env_or("REPS", 3);
     let sizes: Vec<usize> = env_list("SIZES", vec![12, 24, 33, 43, 72]);
@@ -682,9 +683,10 @@ fn speed() {
             mean_diagonal: m,
         } = common::AtInput::new(&mesh);
         let metric = flatcut_flattenable::least_norm::Metric::isotropic(&scale);
-        // Best of 20 (the machine is shared: the minimum is the least disturbed).
+        // Best of 20, or BEST_OF (the machine is shared: the minimum is the least disturbed).
+        let best_of_count: usize = env_or("BEST_OF", 20);
         let best_of = |f: &mut dyn FnMut()| {
-            (0..20)
+            (0..best_of_count)
                 .map(|_| {
                     let t = std::time::Instant::now();
                     f();
@@ -703,6 +705,15 @@ fn speed() {
         let chol = best_of(&mut || {
             layout.refactor(&mut fac, &normal, 1e-3 * m, None).unwrap();
         });
+        if std::env::var_os("SOLVE_HASH").is_some() {
+            // The bits of one solve with this factor: equal hashes, equal factor and solve.
+            let mut x = theta.clone();
+            layout.solve(&fac, &mut x, 1);
+            let hash = x
+                .iter()
+                .fold(0u64, |h, v| (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3));
+            println!("{} faces: solve hash {hash:016x}", mesh.faces.len());
+        }
         let mut x = theta.clone();
         let solve = best_of(&mut || layout.solve(&fac, &mut x, 1));
         let assemble = best_of(&mut || layout.normal_matrix(&grad, &metric, &mut normal));
@@ -732,6 +743,7 @@ fn speed() {
             match std::env::var("ONLY_TARGET").as_deref() {
                 Ok("zero") if target == Target::Detail => continue,
                 Ok("detail") if target == Target::Zero => continue,
+                Ok("none") => continue,
                 _ => {}
             }
             let mut best = f64::INFINITY;

@@ -49,5 +49,5 @@ pub use error::SparseError;
 pub use faer::c64;
 pub use spd::{SpdFactor, SpdPattern, Value};
 pub use supernodal_llt::{DENSE_MIN_COLUMNS, GEMM_MIN_DEPTH, LltWorkspace, SupernodalLltPlan};
-pub use supernodal_solve::solve_llt_in_place;
+pub use supernodal_solve::{GROUP_COLUMNS, GROUP_MIN_ROWS, solve_llt_in_place};
 pub use triplets::Triplets;
