@@ -2,7 +2,8 @@
 //! flatcut_flattenable --example measure -- table` (or probe with env N = grid size,
 //! W = cap|saddle, TARGET=zero, PAPER/LS/TAN to add variants; probe_weights; probe_targets
 //! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA; DIAG=1 shows
-//! where the residual sits; speed [SIZES=…, REPS, TRACE=1, STEP_RATIO=1]; saddles [SEEDS=…, DIAG=1], the
+//! where the residual sits; speed [SIZES=…, REPS, TRACE=1, STEP_RATIO=1,
+//! BEST_OF=20 (kernel timings), ONLY_TARGET=zero|detail|none, SOLVE_HASH=1 (the bits of one solve)]; saddles [SEEDS=…, DIAG=1], the
 //! round-off robustness check; SHAPE=bcap for the bench cap; random [COUNT, NMIN, NMAX, SEED,
 //! TARGET]: a corpus of random pieces).
 
