@@ -80,6 +80,20 @@ const STIFF_MAX: f64 = 1e4;
 const MAX_STIFFEN: usize = 6;
 /// Second-order corrections tried per trial step.
 const MAX_CORRECTIONS: usize = 3;
+/// A correction is kept when it at least halves the merit (`CORRECTION_KEEP`), or, within
+/// `CORRECTION_RELAXED_BELOW_RAD` of θ = 2π, when it cuts the merit by a fifth
+/// (`CORRECTION_RELAXED_KEEP`) and the linear model predicted that cut (ρ of the correction at
+/// least `CORRECTION_RELAXED_RHO`). On large pieces the damped steps of the global phase each
+/// leave most of the residual (f_trial / f 0.3–0.96 on the 100k cap), and a correction then
+/// gains what another damped step would (its own ratio 0.54–0.99), for one solve and one θ
+/// instead of a factorisation: the 100k cap 43 → 36 factorisations, its seven one-ulp inputs
+/// 327 → 275, the 33k cap 47 → 21 (docs/algorithms/flattenable.md, "Corrections kept at a
+/// fifth"). Not farther from θ = 2π: a rough scan piece (the wetsuit scan's front-right side,
+/// θ_err 1.1 rad) kept one at its second iteration and then stalled at 2.2e-4.
+const CORRECTION_KEEP: f64 = 0.5;
+const CORRECTION_RELAXED_KEEP: f64 = 0.8;
+const CORRECTION_RELAXED_RHO: f64 = 0.25;
+const CORRECTION_RELAXED_BELOW_RAD: f64 = 1e-3;
 /// Accept a trial when ρ exceeds this (any real decrease of the merit).
 const RHO_ACCEPT: f64 = 1e-4;
 /// θ_err from which the merit has a dead zone (radians), and its half-width as a fraction of
@@ -685,7 +699,11 @@ fn run_inner(
                     let f_cand = Piece::merit(&cand_theta, dead_zone).1;
                     // The fold guard only for a correction the merit would keep (about half
                     // of them are not).
-                    if f_cand.is_nan() || f_cand >= 0.5 * f_trial || piece.folded_faces(&cand) > 0 {
+                    let kept = keep_correction(f_trial, f_cand, err, || {
+                        let ad = layout.apply(&grad, &dc);
+                        r.iter().zip(&ad).map(|(r, a)| (r - a) * (r - a)).sum()
+                    });
+                    if !kept || piece.folded_faces(&cand) > 0 {
                         break;
                     }
                     trial = cand;
@@ -1081,6 +1099,29 @@ fn first_fraction(f: f64, full_merit: f64, tries: usize) -> usize {
     quartic.saturating_sub(1).clamp(1, tries.max(1))
 }
 
+/// Whether a second-order correction that took the merit from `f_trial` to `f_cand` is kept,
+/// at a point `err_rad` from θ = 2π (θ_err before the step); `predicted_residual` gives
+/// ‖r − A dc‖², the merit the linear model (A at the step's base point) predicts after it,
+/// and is only evaluated for a correction that cuts the merit by less than half.
+fn keep_correction(
+    f_trial: f64,
+    f_cand: f64,
+    err_rad: f64,
+    predicted_residual: impl FnOnce() -> f64,
+) -> bool {
+    if f_cand.is_nan() {
+        return false;
+    }
+    if f_cand < CORRECTION_KEEP * f_trial {
+        return true;
+    }
+    if err_rad > CORRECTION_RELAXED_BELOW_RAD || f_cand >= CORRECTION_RELAXED_KEEP * f_trial {
+        return false;
+    }
+    let predicted_gain = f_trial - predicted_residual();
+    predicted_gain > 0.0 && (f_trial - f_cand) >= CORRECTION_RELAXED_RHO * predicted_gain
+}
+
 /// The first of α = 2⁻ᵏ, k from [`first_fraction`] (1 unless the full step blew up) to
 /// `tries`, for which `pos + α d` has no folded face and a real decrease of the merit against
 /// the linear model's prediction (ρ above `RHO_ACCEPT`, as for full steps); the new positions
@@ -1136,7 +1177,9 @@ fn backtrack(
 
 #[cfg(test)]
 mod tests {
-    use super::first_fraction;
+    use super::{
+        CORRECTION_RELAXED_BELOW_RAD, CORRECTION_RELAXED_RHO, first_fraction, keep_correction,
+    };
 
     /// Along a step the merit is the linear model's f (1 − α)² plus a blow-up B αᵖ
     /// (second-order terms: p = 4 for a near-flat star, 2 or 3 for milder ones). No
@@ -1172,5 +1215,42 @@ mod tests {
             assert_eq!(first_fraction(f, full, 10), 1, "full = {full:e}");
         }
         assert_eq!(first_fraction(0.0, 1.0, 10), 1);
+    }
+
+    /// A correction that halves the merit is kept anywhere, without asking the linear model;
+    /// a smaller cut only near θ = 2π, by at least a fifth, and when the model predicted it
+    /// (ρ ≥ 1/4); a NaN merit never.
+    #[test]
+    fn corrections_kept_at_half_anywhere_and_at_a_fifth_near_theta_2pi() {
+        let never = || -> f64 { panic!("the linear model was asked") };
+        let near = 0.5 * CORRECTION_RELAXED_BELOW_RAD;
+        let far = 2.0 * CORRECTION_RELAXED_BELOW_RAD;
+        let f = 4.0e-9;
+        for err in [near, far, 1.0] {
+            assert!(keep_correction(f, 0.49 * f, err, never));
+            assert!(!keep_correction(f, f64::NAN, err, never));
+        }
+        // A cut of 30 %: kept near θ = 2π when the model predicted a gain of at most 1/ρ_min = 4×
+        // it.
+        let cut = 0.3 * f;
+        let predicted = |gain: f64| move || f - gain;
+        assert!(keep_correction(f, f - cut, near, predicted(cut)));
+        assert!(keep_correction(
+            f,
+            f - cut,
+            near,
+            predicted(0.99 * cut / CORRECTION_RELAXED_RHO)
+        ));
+        assert!(!keep_correction(
+            f,
+            f - cut,
+            near,
+            predicted(1.01 * cut / CORRECTION_RELAXED_RHO)
+        ));
+        // …not when the model predicted an increase, nor farther from θ = 2π.
+        assert!(!keep_correction(f, f - cut, near, predicted(-cut)));
+        assert!(!keep_correction(f, f - cut, far, never));
+        // A cut of less than a fifth is not kept at all.
+        assert!(!keep_correction(f, 0.81 * f, near, never));
     }
 }
