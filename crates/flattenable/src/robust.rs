@@ -89,11 +89,15 @@ const MAX_CORRECTIONS: usize = 3;
 /// instead of a factorisation: the 100k cap 43 → 36 factorisations, its seven one-ulp inputs
 /// 327 → 275, the 33k cap 47 → 21 (docs/algorithms/flattenable.md, "Corrections kept at a
 /// fifth"). Not farther from θ = 2π: a rough scan piece (the wetsuit scan's front-right side,
-/// θ_err 1.1 rad) kept one at its second iteration and then stalled at 2.2e-4.
+/// θ_err 1.1 rad) kept one at its second iteration and then stalled at 2.2e-4. Not on pieces
+/// below `CORRECTION_RELAXED_MIN_FACES`, whose global phase coarse-to-fine's coarse levels run
+/// (the default range ends at 15 000 faces) or which are small: there it only moved paths by
+/// a few factorisations either way (the 3.5k cap's zero target 16 → 17, 29.3 → 32.6 ms).
 const CORRECTION_KEEP: f64 = 0.5;
 const CORRECTION_RELAXED_KEEP: f64 = 0.8;
 const CORRECTION_RELAXED_RHO: f64 = 0.25;
 const CORRECTION_RELAXED_BELOW_RAD: f64 = 1e-3;
+const CORRECTION_RELAXED_MIN_FACES: usize = 15_000;
 /// Accept a trial when ρ exceeds this (any real decrease of the merit).
 const RHO_ACCEPT: f64 = 1e-4;
 /// θ_err from which the merit has a dead zone (radians), and its half-width as a fraction of
@@ -699,7 +703,9 @@ fn run_inner(
                     let f_cand = Piece::merit(&cand_theta, dead_zone).1;
                     // The fold guard only for a correction the merit would keep (about half
                     // of them are not).
-                    let kept = keep_correction(f_trial, f_cand, err, || {
+                    let relaxed = err <= CORRECTION_RELAXED_BELOW_RAD
+                        && piece.faces.len() >= CORRECTION_RELAXED_MIN_FACES;
+                    let kept = keep_correction(f_trial, f_cand, relaxed, || {
                         let ad = layout.apply(&grad, &dc);
                         r.iter().zip(&ad).map(|(r, a)| (r - a) * (r - a)).sum()
                     });
@@ -1099,14 +1105,15 @@ fn first_fraction(f: f64, full_merit: f64, tries: usize) -> usize {
     quartic.saturating_sub(1).clamp(1, tries.max(1))
 }
 
-/// Whether a second-order correction that took the merit from `f_trial` to `f_cand` is kept,
-/// at a point `err_rad` from θ = 2π (θ_err before the step); `predicted_residual` gives
-/// ‖r − A dc‖², the merit the linear model (A at the step's base point) predicts after it,
-/// and is only evaluated for a correction that cuts the merit by less than half.
+/// Whether a second-order correction that took the merit from `f_trial` to `f_cand` is kept;
+/// `relaxed`: whether a cut by a fifth may do (a large piece near θ = 2π, see
+/// `CORRECTION_RELAXED_KEEP`). `predicted_residual` gives ‖r − A dc‖², the merit the linear
+/// model (A at the step's base point) predicts after it, and is only evaluated for a relaxed
+/// correction that cuts the merit by less than half.
 fn keep_correction(
     f_trial: f64,
     f_cand: f64,
-    err_rad: f64,
+    relaxed: bool,
     predicted_residual: impl FnOnce() -> f64,
 ) -> bool {
     if f_cand.is_nan() {
@@ -1115,7 +1122,7 @@ fn keep_correction(
     if f_cand < CORRECTION_KEEP * f_trial {
         return true;
     }
-    if err_rad > CORRECTION_RELAXED_BELOW_RAD || f_cand >= CORRECTION_RELAXED_KEEP * f_trial {
+    if !relaxed || f_cand >= CORRECTION_RELAXED_KEEP * f_trial {
         return false;
     }
     let predicted_gain = f_trial - predicted_residual();
@@ -1177,9 +1184,7 @@ fn backtrack(
 
 #[cfg(test)]
 mod tests {
-    use super::{
-        CORRECTION_RELAXED_BELOW_RAD, CORRECTION_RELAXED_RHO, first_fraction, keep_correction,
-    };
+    use super::{CORRECTION_RELAXED_RHO, first_fraction, keep_correction};
 
     /// Along a step the merit is the linear model's f (1 − α)² plus a blow-up B αᵖ
     /// (second-order terms: p = 4 for a near-flat star, 2 or 3 for milder ones). No
@@ -1218,17 +1223,16 @@ mod tests {
     }
 
     /// A correction that halves the merit is kept anywhere, without asking the linear model;
-    /// a smaller cut only near θ = 2π, by at least a fifth, and when the model predicted it
-    /// (ρ ≥ 1/4); a NaN merit never.
+    /// a smaller cut only where relaxed (a large piece near θ = 2π), by at least a fifth, and
+    /// when the model predicted it (ρ ≥ 1/4); a NaN merit never.
     #[test]
-    fn corrections_kept_at_half_anywhere_and_at_a_fifth_near_theta_2pi() {
+    fn corrections_kept_at_half_anywhere_and_at_a_fifth_where_relaxed() {
         let never = || -> f64 { panic!("the linear model was asked") };
-        let near = 0.5 * CORRECTION_RELAXED_BELOW_RAD;
-        let far = 2.0 * CORRECTION_RELAXED_BELOW_RAD;
+        let (near, far) = (true, false);
         let f = 4.0e-9;
-        for err in [near, far, 1.0] {
-            assert!(keep_correction(f, 0.49 * f, err, never));
-            assert!(!keep_correction(f, f64::NAN, err, never));
+        for relaxed in [near, far] {
+            assert!(keep_correction(f, 0.49 * f, relaxed, never));
+            assert!(!keep_correction(f, f64::NAN, relaxed, never));
         }
         // A cut of 30 %: kept near θ = 2π when the model predicted a gain of at most 1/ρ_min = 4×
         // it.
@@ -1247,7 +1251,7 @@ mod tests {
             near,
             predicted(1.01 * cut / CORRECTION_RELAXED_RHO)
         ));
-        // …not when the model predicted an increase, nor farther from θ = 2π.
+        // …not when the model predicted an increase, nor where not relaxed.
         assert!(!keep_correction(f, f - cut, near, predicted(-cut)));
         assert!(!keep_correction(f, f - cut, far, never));
         // A cut of less than a fifth is not kept at all.

@@ -357,16 +357,14 @@ fn blow_ups_near_theta_2pi_are_backtracked_deep() {
 /// converged phase, so its first restoring step blows up (ρ ≈ −7e4 on the bench's 43×43 cap,
 /// 3.5k faces, default detail target). Backtracked deep, it costs a few θ evaluations instead
 /// of a factorisation per raise of the damping: 34 factorisations for the three pull-backs'
-/// run, 54 when it was not (seventeenth session); since the nineteenth session's corrections
-/// (kept at a fifth near θ = 2π) one pull-back gains what the three did, in 29 factorisations.
-/// The RMS displacement stays below the zero target's.
+/// run, 54 when it was not; the RMS displacement stays below the zero target's.
 #[test]
 fn blow_ups_while_restoring_a_pull_back_are_backtracked_deep() {
     let mesh = common::bench_cap(43);
     let r = robust(&mesh, &ProcessOptions::default());
     assert_flat_unfolded(&mesh, &r);
     let p = &r.report.pieces[0];
-    assert!(p.pull_backs >= 1, "{p:?}");
+    assert!(p.pull_backs >= 2, "{p:?}");
     assert!(p.backtracked_steps > 0, "{p:?}");
     assert!(p.factorizations < 45, "{} factorisations", p.factorizations);
     let zero = bench_cap_with_the_zero_target(43, 0);
