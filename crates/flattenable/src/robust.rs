@@ -684,6 +684,8 @@ fn run_inner(
             // set θ = 2π. Kept while each one at least halves the merit, or on a large piece
             // near θ = 2π cuts it by a fifth as predicted (`keep_correction`).
             if folded == 0 && ls.is_none() {
+                let relaxed = err <= CORRECTION_RELAXED_BELOW_RAD
+                    && piece.faces.len() >= CORRECTION_RELAXED_MIN_FACES;
                 for _ in 0..MAX_CORRECTIONS {
                     let r = residual_beyond(&trial_theta, dead_zone);
                     let Some(dc) = solve(&r) else { break };
@@ -704,11 +706,8 @@ fn run_inner(
                     let f_cand = Piece::merit(&cand_theta, dead_zone).1;
                     // The fold guard only for a correction the merit would keep (about half
                     // of them are not).
-                    let relaxed = err <= CORRECTION_RELAXED_BELOW_RAD
-                        && piece.faces.len() >= CORRECTION_RELAXED_MIN_FACES;
                     let kept = keep_correction(f_trial, f_cand, relaxed, || {
-                        let ad = layout.apply(&grad, &dc);
-                        r.iter().zip(&ad).map(|(r, a)| (r - a) * (r - a)).sum()
+                        model_merit(&r, &layout.apply(&grad, &dc), 1.0)
                     });
                     if !kept || piece.folded_faces(&cand) > 0 {
                         break;
@@ -732,8 +731,7 @@ fn run_inner(
             }
             // Predicted decrease of the linear model.
             let ad = layout.apply(&grad, &d);
-            let res: f64 = b.iter().zip(&ad).map(|(b, a)| (b - a) * (b - a)).sum();
-            let pred = f - res;
+            let pred = f - model_merit(&b, &ad, 1.0);
             let rho = if pred > 0.0 {
                 (f - f_trial) / pred
             } else {
@@ -1106,6 +1104,16 @@ fn first_fraction(f: f64, full_merit: f64, tries: usize) -> usize {
     quartic.saturating_sub(1).clamp(1, tries.max(1))
 }
 
+/// The merit the linear model predicts after a step α d from a point with residual `b`:
+/// ‖b − α A d‖², given `ad` = A d. (With α = 1 the products α·(A d)ᵢ are exact, so the value
+/// is the same to the bit as ‖b − A d‖².)
+fn model_merit(b: &[f64], ad: &[f64], alpha: f64) -> f64 {
+    b.iter()
+        .zip(ad)
+        .map(|(b, a)| (b - alpha * a) * (b - alpha * a))
+        .sum()
+}
+
 /// Whether a second-order correction that took the merit from `f_trial` to `f_cand` is kept;
 /// `relaxed`: whether a cut by a fifth may do (a large piece near θ = 2π, see
 /// `CORRECTION_RELAXED_KEEP`). `predicted_residual` gives ‖r − A dc‖², the merit the linear
@@ -1168,12 +1176,7 @@ fn backtrack(
         if piece.folded_faces(&cand) == 0 {
             layout.theta(&cand, &mut theta);
             let f_cand = Piece::merit(&theta, dead_zone).1;
-            let res: f64 = b
-                .iter()
-                .zip(ad)
-                .map(|(b, a)| (b - alpha * a) * (b - alpha * a))
-                .sum();
-            let pred = f - res;
+            let pred = f - model_merit(b, ad, alpha);
             if f_cand.is_finite() && f_cand < f && pred > 0.0 && (f - f_cand) / pred > RHO_ACCEPT {
                 return Some((cand, theta));
             }

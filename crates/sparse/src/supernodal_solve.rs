@@ -77,54 +77,16 @@ fn solve(symbolic: &SymbolicSupernodalCholesky<u32>, values: &[f64], x: &mut [f6
     ];
     let mut below_dots = [0.0; GROUP_COLUMNS];
 
-    // Forward: L y = b. Where a supernode is wide and has enough rows below it, its own
-    // triangle goes first and then the rows below from GROUP_COLUMNS columns at a time:
-    // each entry of `below` still receives its products one column after another, in
-    // increasing order (the same sums, bit for bit), but is loaded and stored once per
-    // group instead of once per column.
+    // Forward: L y = b, each supernode's own triangle first, then the rows below it. Where
+    // there are enough of those (`grouped_columns`) they take GROUP_COLUMNS columns'
+    // products per pass: each entry of `below` still receives its products one column after
+    // another, in increasing order (the same sums, bit for bit), but is loaded and stored
+    // once per group instead of once per column.
     for s in 0..symbolic.n_supernodes() {
         let (start, size, pattern, block) = supernode(s);
         let rows = size + pattern.len();
-        let below = &mut below[..pattern.len()];
-        below.fill(0.0);
-        if size >= GROUP_COLUMNS && below.len() >= GROUP_MIN_ROWS {
-            for j in 0..size {
-                let column = &block[j * rows..j * rows + size];
-                let xj = x[start + j] / column[j];
-                x[start + j] = xj;
-                for (xi, l) in x[start + j + 1..start + size]
-                    .iter_mut()
-                    .zip(&column[j + 1..size])
-                {
-                    *xi -= l * xj;
-                }
-            }
-            let own = &x[start..start + size];
-            let grouped = size - size % GROUP_COLUMNS;
-            for j in (0..grouped).step_by(GROUP_COLUMNS) {
-                let c = |k: usize| &block[(j + k) * rows + size..(j + k + 1) * rows];
-                let [x0, x1, x2, x3] = [own[j], own[j + 1], own[j + 2], own[j + 3]];
-                for ((((t, l0), l1), l2), l3) in
-                    below.iter_mut().zip(c(0)).zip(c(1)).zip(c(2)).zip(c(3))
-                {
-                    *t = (((*t + l0 * x0) + l1 * x1) + l2 * x2) + l3 * x3;
-                }
-            }
-            for (j, &xj) in own.iter().enumerate().skip(grouped) {
-                for (t, l) in below
-                    .iter_mut()
-                    .zip(&block[j * rows + size..(j + 1) * rows])
-                {
-                    *t += l * xj;
-                }
-            }
-            for (&i, t) in pattern.iter().zip(below.iter()) {
-                x[i as usize] -= t;
-            }
-            continue;
-        }
         for j in 0..size {
-            let column = &block[j * rows..(j + 1) * rows];
+            let column = &block[j * rows..j * rows + size];
             let xj = x[start + j] / column[j];
             x[start + j] = xj;
             for (xi, l) in x[start + j + 1..start + size]
@@ -133,7 +95,25 @@ fn solve(symbolic: &SymbolicSupernodalCholesky<u32>, values: &[f64], x: &mut [f6
             {
                 *xi -= l * xj;
             }
-            for (t, l) in below.iter_mut().zip(&column[size..]) {
+        }
+        let below = &mut below[..pattern.len()];
+        below.fill(0.0);
+        let own = &x[start..start + size];
+        let grouped = grouped_columns(size, below.len());
+        for j in (0..grouped).step_by(GROUP_COLUMNS) {
+            let c = |k: usize| &block[(j + k) * rows + size..(j + k + 1) * rows];
+            let [x0, x1, x2, x3] = [own[j], own[j + 1], own[j + 2], own[j + 3]];
+            for ((((t, l0), l1), l2), l3) in
+                below.iter_mut().zip(c(0)).zip(c(1)).zip(c(2)).zip(c(3))
+            {
+                *t = (((*t + l0 * x0) + l1 * x1) + l2 * x2) + l3 * x3;
+            }
+        }
+        for (j, &xj) in own.iter().enumerate().skip(grouped) {
+            for (t, l) in below
+                .iter_mut()
+                .zip(&block[j * rows + size..(j + 1) * rows])
+            {
                 *t += l * xj;
             }
         }
@@ -153,11 +133,7 @@ fn solve(symbolic: &SymbolicSupernodalCholesky<u32>, values: &[f64], x: &mut [f6
         for (t, &i) in below.iter_mut().zip(pattern) {
             *t = x[i as usize];
         }
-        let blocked = if below.len() >= GROUP_MIN_ROWS {
-            size - size % GROUP_COLUMNS
-        } else {
-            0
-        };
+        let blocked = grouped_columns(size, below.len());
         for j in (0..size).rev() {
             let column = &block[j * rows..(j + 1) * rows];
             let below_dot = if j < blocked {
@@ -187,6 +163,18 @@ pub const GROUP_COLUMNS: usize = 4;
 /// sweeps made the solve slower at 3.5k faces (most supernodes are narrow and short there);
 /// from 16 rows on they made it 10 % faster at 10k and 50k faces.
 pub const GROUP_MIN_ROWS: usize = 16;
+
+/// How many of a supernode's `size` columns sweep its `rows_below` in groups of
+/// [`GROUP_COLUMNS`] (the first ones; the rest go one by one): none unless there are at
+/// least [`GROUP_MIN_ROWS`] rows below.
+#[inline(always)]
+fn grouped_columns(size: usize, rows_below: usize) -> usize {
+    if rows_below >= GROUP_MIN_ROWS {
+        size - size % GROUP_COLUMNS
+    } else {
+        0
+    }
+}
 
 /// [`dot`] of each of `columns` with `b`, summed side by side: each result is the same
 /// value, bit for bit, as its own [`dot`].

@@ -156,6 +156,7 @@ fn column_by_column(symbolic: &SymbolicSupernodalCholesky<u32>, values: &[f64], 
 fn grouped_sweeps_give_the_column_by_column_bits() {
     // Patterns with supernodes on both sides of the grouping thresholds: narrow ones, wide
     // ones with few rows below, and wide ones with many (which the test asserts exist).
+    let mut grouped = 0;
     for matrix in [
         grid_two_ring(20),
         grid_two_ring(31).amd_ordered(),
@@ -167,6 +168,14 @@ fn grouped_sweeps_give_the_column_by_column_bits() {
         let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
             panic!("forced supernodal");
         };
+        grouped += (0..supernodal.n_supernodes())
+            .filter(|&s| {
+                let width =
+                    (supernodal.supernode_end()[s] - supernodal.supernode_begin()[s]) as usize;
+                let below = supernodal.nnz_per_super()[s] as usize;
+                width >= GROUP_COLUMNS && below >= GROUP_MIN_ROWS
+            })
+            .count();
         let mut x = rhs(n);
         solve_llt_in_place(supernodal, &values, &mut x);
         let mut reference = rhs(n);
@@ -179,18 +188,6 @@ fn grouped_sweeps_give_the_column_by_column_bits() {
             );
         }
     }
-    let matrix = grid_two_ring(31).amd_ordered();
-    let (symbolic, _) = matrix.factor();
-    let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
-        panic!("forced supernodal");
-    };
-    let grouped = (0..supernodal.n_supernodes())
-        .filter(|&s| {
-            let width = (supernodal.supernode_end()[s] - supernodal.supernode_begin()[s]) as usize;
-            let below = supernodal.nnz_per_super()[s] as usize;
-            width >= GROUP_COLUMNS && below >= GROUP_MIN_ROWS
-        })
-        .count();
     assert!(
         grouped >= 3,
         "{grouped} grouped supernodes: the test does not exercise them"
