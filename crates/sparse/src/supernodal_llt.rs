@@ -65,6 +65,9 @@ struct Update {
 pub struct SupernodalLltPlan {
     /// Per stored entry of A (lower CSC, the factor's order): its position in L's values.
     a_dst: Vec<u32>,
+    /// A's entries that land in supernode s: `a_dst[a_ptr[s]..a_ptr[s + 1]]` (CSC order
+    /// visits the supernodes' columns in turn).
+    a_ptr: Vec<usize>,
     /// Updates of supernode s: `updates[update_ptr[s]..update_ptr[s + 1]]`, descendants in
     /// increasing order (a fixed order, so every factorisation rounds alike).
     updates: Vec<Update>,
@@ -135,7 +138,9 @@ impl SupernodalLltPlan {
 
         // A's entries.
         let mut a_dst = Vec::with_capacity(a_lower.compute_nnz());
+        let mut a_ptr = Vec::with_capacity(ns + 1);
         for s in 0..ns {
+            a_ptr.push(a_dst.len());
             set_local(&mut local, s);
             let rows = (end[s] - begin[s]) as usize + pattern(s).len();
             for j in begin[s]..end[s] {
@@ -154,6 +159,7 @@ impl SupernodalLltPlan {
             }
             clear_local(&mut local, s);
         }
+        a_ptr.push(a_dst.len());
 
         // Updates: descendant d updates every supernode that owns one of its pattern rows;
         // the rows owned by one supernode are contiguous in d's (sorted) pattern.
@@ -214,6 +220,7 @@ impl SupernodalLltPlan {
         }
         Ok(Self {
             a_dst,
+            a_ptr,
             updates,
             update_ptr,
             rel,
@@ -465,15 +472,18 @@ fn factorize(
         ..
     } = Supernodes::of(symbolic);
     let l = &mut l[..plan.len_val];
-    l.fill(0.0);
-    for (&dst, &a) in plan.a_dst.iter().zip(a_values) {
-        l[dst as usize] += a;
-    }
     for s in 0..symbolic.n_supernodes() {
         let size = (end[s] - begin[s]) as usize;
         let rows = size + pattern_len[s] as usize;
         let (head, tail) = l.split_at_mut(val_ptr[s] as usize);
         let panel = &mut tail[..size * rows];
+        // The panel's entries of A, written just before its updates read and write it (one
+        // pass over L fewer than zeroing it all first, and the panel is in cache after).
+        panel.fill(0.0);
+        let entries = plan.a_ptr[s]..plan.a_ptr[s + 1];
+        for (&dst, &a) in plan.a_dst[entries.clone()].iter().zip(&a_values[entries]) {
+            panel[(dst - val_ptr[s]) as usize] += a;
+        }
         // Updates from the descendants, left-looking: the lower part of X Xᵀ, X being the
         // descendant's rows from the first that falls in s's own columns, subtracted from s
         // through the precomputed local rows.
