@@ -691,7 +691,8 @@ fn run_inner(
             // left at the trial point, solved with the same factor (a solve costs a small
             // fraction of a factorisation), pulls the point back onto the curved constraint
             // set θ = 2π. Kept while each one at least halves the merit, or on a large piece
-            // near θ = 2π cuts it by a fifth as predicted (`keep_correction`).
+            // near θ = 2π cuts it by a fifth as predicted (`keep_correction`); none is tried
+            // after a trial that raised the merit more than `CORRECTION_SKIP_ABOVE`-fold.
             if folded == 0 && ls.is_none() {
                 let relaxed = err <= CORRECTION_RELAXED_BELOW_RAD
                     && piece.faces.len() >= CORRECTION_RELAXED_MIN_FACES;
