@@ -547,7 +547,20 @@ fn bodies() {
             *c /= scale;
         }
     }
-    for (name, piece) in common::body_pieces(&mesh) {
+    // LOOP=k: each piece Loop-subdivided k times (4^k × the faces): pieces at scan
+    // resolution, smooth, from the same cuts.
+    let loops_of_subdivision: usize = env_or("LOOP", 0);
+    let only = std::env::var("ONLY").ok();
+    for (name, mut piece) in common::body_pieces(&mesh) {
+        if only
+            .as_ref()
+            .is_some_and(|o| !o.split(',').any(|x| x == name))
+        {
+            continue;
+        }
+        for _ in 0..loops_of_subdivision {
+            piece = common::loop_subdivide(&piece);
+        }
         let topo = flatcut_mesh::Topology::build(&piece).unwrap();
         let loops = topo.boundary_loops().len();
         let opts = ProcessOptions {

@@ -145,7 +145,13 @@ pub fn run(
                 if k > 0 {
                     tally.notes.push("solved again from the input".into());
                 }
-                robust::run(piece, opts, &mut rep).positions
+                // Above `max_faces` (measured there; below `min_faces` a stalled direct
+                // solve costs little).
+                if faces > c2f.max_faces && pending.iter().any(Option::is_some) {
+                    robust::run_before_hierarchy(piece, opts, &mut rep).positions
+                } else {
+                    robust::run(piece, opts, &mut rep).positions
+                }
             }
             Some(h) => match pass((piece, local, w_local), opts, h, what, &mut dead, &mut rep)? {
                 Pass::NoLevels if k == 0 => {
@@ -184,9 +190,14 @@ pub fn run(
         }
         tally.notes.push(match attempt {
             None => format!(
-                "the direct solve did not converge (best θ_err {:.1e} in {} iterations)",
+                "the direct solve did not converge (best θ_err {:.1e} in {} iterations{})",
                 best_reached(&rep, false),
-                rep.iterations
+                rep.iterations,
+                if rep.stop_reason.starts_with("handed over") {
+                    "; handed over under heavy damping"
+                } else {
+                    ""
+                }
             ),
             Some(_) => format!(
                 "{what} did not converge (best θ_err {:.1e} in {} iterations)",

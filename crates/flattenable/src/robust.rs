@@ -218,7 +218,24 @@ pub fn run_from(
     } else {
         Polish::Global
     };
-    run_inner(piece, start, opts, budget, polish, report)
+    run_inner(piece, start, opts, budget, polish, false, report)
+}
+
+/// [`run`] as the direct solve of a piece above `CoarseToFine::max_faces` that
+/// coarse-to-fine hierarchies follow if it does not converge: it also stops, handing the piece over, when it is stuck far from
+/// θ = 2π under heavy damping ([`HAND_OVER_MU`]), where the hierarchies' coarse levels make
+/// the global moves it cannot.
+pub fn run_before_hierarchy(
+    piece: &Piece,
+    opts: &ProcessOptions,
+    report: &mut PieceReport,
+) -> RobustOutcome {
+    let polish = if opts.local_polish {
+        Polish::Local
+    } else {
+        Polish::Global
+    };
+    run_inner(piece, &piece.pos0, opts, None, polish, true, report)
 }
 
 /// [`run_from`] for a coarse level of coarse-to-fine: no local polish (the level stops at
@@ -230,7 +247,7 @@ pub fn run_coarse_level(
     opts: &ProcessOptions,
     report: &mut PieceReport,
 ) -> RobustOutcome {
-    run_inner(piece, start, opts, None, Polish::Coarse, report)
+    run_inner(piece, start, opts, None, Polish::Coarse, false, report)
 }
 
 /// How a run ends.
@@ -256,6 +273,7 @@ fn run_inner(
     opts: &ProcessOptions,
     budget: Option<usize>,
     polish: Polish,
+    hand_over: bool,
     report: &mut PieceReport,
 ) -> RobustOutcome {
     let local = matches!(polish, Polish::Local);
@@ -477,6 +495,20 @@ fn run_inner(
                 before,
             });
             continue;
+        }
+        // Stuck far from θ = 2π under heavy damping, with a hierarchy to follow: hand over.
+        if hand_over
+            && ls.is_none()
+            && restoring.is_none()
+            && err > HAND_OVER_ABOVE_RAD
+            && report.iterations >= best.at + LIFT_AFTER
+            && mu >= HAND_OVER_MU
+        {
+            report.stop_reason = format!(
+                "handed over to coarse-to-fine: no 10 % gain of ‖θ − 2π‖² in {} iterations at damping {mu:.1e}",
+                report.iterations - best.at
+            );
+            break;
         }
         // A long run without gain, with nearly flat stars left at excess angle: give them
         // their second-order step (`lift_flat_excess`), then restart the stall count.
@@ -931,6 +963,7 @@ fn polish_region(
         &crate::local_polish::region_options(opts),
         Some(LOCAL_BUDGET),
         Polish::Region { mu },
+        false,
         &mut sub,
     )
     .positions;
@@ -967,6 +1000,18 @@ fn polish_region(
         interior: region.piece.layout.n(),
     })
 }
+
+/// The direct solve of a large piece that coarse-to-fine hierarchies follow
+/// ([`run_before_hierarchy`]) hands the piece over after `LIFT_AFTER` iterations without a
+/// 10 % gain while its relative damping is at least `HAND_OVER_MU` and θ_err above
+/// `HAND_OVER_ABOVE_RAD` (instead of lifting, and stalling only after up to 8 × 20 + 100
+/// iterations). Measured (twenty-first session, docs/algorithms/flattenable.md, "Body pieces
+/// at scan resolution"): the Loop-subdivided upper back and thigh of mh_body_subdiv2 (21k,
+/// 37k, 85k faces) sit at damping 0.02–0.2 from their 20th iteration on with θ_err
+/// 6e-4–8e-4, and spent ~300 iterations there before their hierarchy converged them; the
+/// 100×100 saddle's slow phase, which does converge directly, stays below 6.1e-3.
+const HAND_OVER_MU: f64 = 3e-2;
+const HAND_OVER_ABOVE_RAD: f64 = 1e-4;
 
 /// Iterations without a 10 % gain of the merit after which nearly flat vertices with excess
 /// angle are lifted, and the most lifts per piece (each restarts the stall count, so the cap

@@ -295,3 +295,78 @@ pub fn random_piece(n: usize, jitter: &[(f64, f64)], c: [f64; 7]) -> TriMesh {
     }
     mesh
 }
+
+/// One step of Loop subdivision (smooth interior rules, cubic B-spline rules on the
+/// boundary): 4× the faces on a smooth surface through the same boundary curve's limit.
+/// `measure -- bodies` with `LOOP=k` makes pieces at scan resolution from the bodies' cut
+/// pieces this way (a refined copy of a coarse mesh would be piecewise flat, which no scan
+/// is). Deterministic: edges and neighbours are visited in sorted order.
+pub fn loop_subdivide(mesh: &TriMesh) -> TriMesh {
+    use std::collections::BTreeMap;
+    let n = mesh.positions.len();
+    // Per edge (low, high): the vertices opposite it, one per face.
+    let mut opposite: BTreeMap<(u32, u32), Vec<u32>> = BTreeMap::new();
+    for f in &mesh.faces {
+        for k in 0..3 {
+            let (a, b, c) = (f[k], f[(k + 1) % 3], f[(k + 2) % 3]);
+            opposite.entry((a.min(b), a.max(b))).or_default().push(c);
+        }
+    }
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut boundary_neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for (&(a, b), opp) in &opposite {
+        neighbours[a as usize].push(b);
+        neighbours[b as usize].push(a);
+        if opp.len() == 1 {
+            boundary_neighbours[a as usize].push(b);
+            boundary_neighbours[b as usize].push(a);
+        }
+    }
+    let p = &mesh.positions;
+    let mut positions: Vec<[f64; 3]> = (0..n)
+        .map(|v| match boundary_neighbours[v][..] {
+            [a, b] => std::array::from_fn(|k| {
+                0.75 * p[v][k] + 0.125 * (p[a as usize][k] + p[b as usize][k])
+            }),
+            _ => {
+                let valence = neighbours[v].len() as f64;
+                let beta = if neighbours[v].len() == 3 {
+                    3.0 / 16.0
+                } else {
+                    3.0 / (8.0 * valence)
+                };
+                std::array::from_fn(|k| {
+                    let ring: f64 = neighbours[v].iter().map(|&u| p[u as usize][k]).sum();
+                    (1.0 - valence * beta) * p[v][k] + beta * ring
+                })
+            }
+        })
+        .collect();
+    let mut midpoint: BTreeMap<(u32, u32), u32> = BTreeMap::new();
+    for (&(a, b), opp) in &opposite {
+        let (pa, pb) = (p[a as usize], p[b as usize]);
+        let q: [f64; 3] = match opp[..] {
+            [c, d] => std::array::from_fn(|k| {
+                0.375 * (pa[k] + pb[k]) + 0.125 * (p[c as usize][k] + p[d as usize][k])
+            }),
+            _ => std::array::from_fn(|k| 0.5 * (pa[k] + pb[k])),
+        };
+        midpoint.insert((a, b), positions.len() as u32);
+        positions.push(q);
+    }
+    let mid = |a: u32, b: u32| midpoint[&(a.min(b), a.max(b))];
+    let faces = mesh
+        .faces
+        .iter()
+        .flat_map(|&[a, b, c]| {
+            let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+            [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]
+        })
+        .collect();
+    // Per-vertex attributes and face groups of the input would not match the new elements.
+    TriMesh {
+        positions,
+        faces,
+        ..TriMesh::default()
+    }
+}
