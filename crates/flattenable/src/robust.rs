@@ -213,29 +213,27 @@ pub fn run_from(
     budget: Option<usize>,
     report: &mut PieceReport,
 ) -> RobustOutcome {
-    let polish = if opts.local_polish {
-        Polish::Local
-    } else {
-        Polish::Global
-    };
-    run_inner(piece, start, opts, budget, polish, false, report)
+    run_inner(piece, start, opts, budget, Polish::of(opts), false, report)
 }
 
 /// [`run`] as the direct solve of a piece above `CoarseToFine::max_faces` that
-/// coarse-to-fine hierarchies follow if it does not converge: it also stops, handing the piece over, when it is stuck far from
-/// θ = 2π under heavy damping ([`HAND_OVER_MU`]), where the hierarchies' coarse levels make
-/// the global moves it cannot.
+/// coarse-to-fine hierarchies follow if it does not converge: it also stops, handing the
+/// piece over, when it is stuck far from θ = 2π under heavy damping ([`HAND_OVER_MU`]),
+/// where the hierarchies' coarse levels make the global moves it cannot.
 pub fn run_before_hierarchy(
     piece: &Piece,
     opts: &ProcessOptions,
     report: &mut PieceReport,
 ) -> RobustOutcome {
-    let polish = if opts.local_polish {
-        Polish::Local
-    } else {
-        Polish::Global
-    };
-    run_inner(piece, &piece.pos0, opts, None, polish, true, report)
+    run_inner(
+        piece,
+        &piece.pos0,
+        opts,
+        None,
+        Polish::of(opts),
+        true,
+        report,
+    )
 }
 
 /// [`run_from`] for a coarse level of coarse-to-fine: no local polish (the level stops at
@@ -264,6 +262,17 @@ enum Polish {
     /// only starts the next one, and a pull-back there would send the detail target's fine
     /// level down another path than the zero target's).
     Coarse,
+}
+
+impl Polish {
+    /// How a piece's own run ends under `opts` (`local_polish`).
+    fn of(opts: &ProcessOptions) -> Self {
+        if opts.local_polish {
+            Polish::Local
+        } else {
+            Polish::Global
+        }
+    }
 }
 
 /// [`run_from`], ending as `polish` says.
