@@ -140,6 +140,8 @@ pub fn run(
         };
         // Whether this attempt was a fine level cut by its budget near θ = 2π.
         let mut crawled = false;
+        // Whether this attempt was the direct solve and handed the piece over.
+        let mut handed_over = false;
         let out = match &attempt {
             None => {
                 if k > 0 {
@@ -147,11 +149,13 @@ pub fn run(
                 }
                 // Above `max_faces` (measured there; below `min_faces` a stalled direct
                 // solve costs little).
-                if faces > c2f.max_faces && pending.iter().any(Option::is_some) {
-                    robust::run_before_hierarchy(piece, opts, &mut rep).positions
+                let outcome = if faces > c2f.max_faces && pending.iter().any(Option::is_some) {
+                    robust::run_before_hierarchy(piece, opts, &mut rep)
                 } else {
-                    robust::run(piece, opts, &mut rep).positions
-                }
+                    robust::run(piece, opts, &mut rep)
+                };
+                handed_over = outcome.handed_over;
+                outcome.positions
             }
             Some(h) => match pass((piece, local, w_local), opts, h, what, &mut dead, &mut rep)? {
                 Pass::NoLevels if k == 0 => {
@@ -193,7 +197,7 @@ pub fn run(
                 "the direct solve did not converge (best θ_err {:.1e} in {} iterations{})",
                 best_reached(&rep, false),
                 rep.iterations,
-                if rep.stop_reason.starts_with("handed over") {
+                if handed_over {
                     "; handed over under heavy damping"
                 } else {
                     ""

@@ -194,6 +194,9 @@ impl Best {
 pub struct RobustOutcome {
     /// Best (lowest θ_err) unfolded local positions reached.
     pub positions: Vec<[f64; 3]>,
+    /// Whether the run stopped to hand the piece over to coarse-to-fine
+    /// ([`run_before_hierarchy`]).
+    pub handed_over: bool,
 }
 
 /// Runs robust mode on one piece; fills `report` (converged or not).
@@ -307,6 +310,7 @@ fn run_inner(
             report.stop_reason = format!("factorisation buffers: {e:?}");
             return RobustOutcome {
                 positions: start.to_vec(),
+                handed_over: false,
             };
         }
     };
@@ -380,6 +384,7 @@ fn run_inner(
     let mut local_wait = LOCAL_RETRY_AFTER;
     let mut polished = PolishTally::default();
     let mut notified = None;
+    let mut handed_over = false;
     loop {
         if notified != Some(report.iterations) {
             notified = Some(report.iterations);
@@ -517,6 +522,7 @@ fn run_inner(
                 "handed over to coarse-to-fine: no 10 % gain of ‖θ − 2π‖² in {} iterations at damping {mu:.1e}",
                 report.iterations - best.at
             );
+            handed_over = true;
             break;
         }
         // A long run without gain, with nearly flat stars left at excess angle: give them
@@ -890,6 +896,7 @@ fn run_inner(
     }
     RobustOutcome {
         positions: best.pos,
+        handed_over,
     }
 }
 
