@@ -30,7 +30,9 @@ mod report;
 mod robust;
 
 pub use error::FlattenableError;
-pub use options::{CoarseToFine, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update};
+pub use options::{
+    CoarseToFine, Damping, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update,
+};
 pub use process::{AREA_TIE_PERCENT, Processed, process};
 pub use progress::{IterationDone, ProgressHook};
 pub use report::{CREASE_DEG, PieceReport, ProcessReport};

@@ -61,6 +61,24 @@ pub enum Target {
     Detail,
 }
 
+/// Shape of the Levenberg–Marquardt damping of robust mode's step (A G Aᵀ + μ m D) x = b.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Damping {
+    /// D = I: the large-μ limit is the steepest-descent step of ‖θ − 2π‖². Measured the
+    /// better default on every input but the largest body piece (docs/algorithms/
+    /// flattenable.md, "A damping shaped like the graph Laplacian").
+    #[default]
+    Identity,
+    /// D = (ε I + L) / (ε + mean valence), L the graph Laplacian of the interior vertices
+    /// (valence on the diagonal, −1 per interior neighbour; ε =
+    /// `least_norm::GRAPH_DAMPING_EPSILON`): smooth parts of the residual are damped up to
+    /// ~1/ε times less than rough ones. Converges the 85k-face upper back that `Identity`
+    /// does not; stalls some saddles that `Identity` converges. The coarse-to-fine rescue
+    /// tries it last (`CoarseToFine::rescue`).
+    GraphLaplacian,
+}
+
 /// How a coarse solution is carried to the next finer level.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -194,6 +212,9 @@ pub struct ProcessOptions {
     /// measured on sphere caps of 19.6k–100k faces, 15 % less CPU in all (the 100k cap 13.0
     /// → 10.0 s) for the same surface (docs/algorithms/flattenable.md, "Local polish").
     pub local_polish: bool,
+    /// Robust mode: shape of the step's damping. Default `Identity`; the coarse-to-fine
+    /// rescue runs one last hierarchy with `GraphLaplacian` (see [`Damping`]).
+    pub damping: Damping,
     /// Called after every iteration of every run (pieces, coarse levels, polish regions),
     /// from the thread running it; it only observes. Not part of a configuration file.
     /// Default none.
@@ -223,6 +244,7 @@ impl Default for ProcessOptions {
             min_angle_deg: 0.5,
             coarse_to_fine: CoarseToFine::default(),
             local_polish: true,
+            damping: Damping::Identity,
             progress: ProgressHook::default(),
         }
     }

@@ -20,6 +20,7 @@ use flatcut_mesh::geometry::area_gradient;
 use flatcut_mesh::vec3::dot;
 
 use crate::least_norm::{Factor, Layout, Metric};
+use crate::options::Damping;
 use crate::piece::Piece;
 use crate::report::PieceReport;
 use crate::robust::Best;
@@ -111,6 +112,8 @@ pub(crate) struct Input<'a> {
     pub(crate) piece: &'a Piece,
     pub(crate) anchor: &'a [[f64; 3]],
     pub(crate) area0: f64,
+    /// The run's damping shape, which the projection's damping takes too.
+    pub(crate) damping: Damping,
 }
 
 /// The verdict on the pull-back `r` at the run's present state (`pos`, θ_err `err`, merit
@@ -128,6 +131,7 @@ pub(crate) fn verdict(
         piece,
         anchor,
         area0,
+        ..
     } = *input;
     if refused {
         Some(Some("its restoring steps kept being refused"))
@@ -191,7 +195,7 @@ pub(crate) fn project(
         .collect();
     report.factorizations += 1;
     layout
-        .refactor(factor, normal, mu.max(PULL_BACK_MU) * m, None)
+        .refactor_damped(factor, normal, mu.max(PULL_BACK_MU) * m, input.damping)
         .ok()?;
     let p = null_space_part(layout, factor, (grad, metric), &z)?;
     let row = AreaRow::at(piece, pos, goal);

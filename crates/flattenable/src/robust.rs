@@ -345,6 +345,7 @@ fn run_inner(
         piece,
         anchor: &anchor,
         area0: piece.total_area(&piece.pos0),
+        damping: opts.damping,
     };
     // From the first pull-back on, every step holds the area where the path before it ended
     // (the direct update's is the zero target's), so that the pull-backs trade no area
@@ -651,7 +652,7 @@ fn run_inner(
             }
             report.factorizations += 1;
             if layout
-                .refactor(&mut factor, &normal, mu * mean_diag, None)
+                .refactor_damped(&mut factor, &normal, mu * mean_diag, opts.damping)
                 .is_err()
             {
                 mu = (mu * 10.0).max(MU_MIN);

@@ -299,3 +299,93 @@ fn refactor_reuses_buffers_and_recovers_after_a_failed_factorisation() {
         assert_eq!(a.to_bits(), b.to_bits());
     }
 }
+
+/// `Damping::GraphLaplacian` factorises A Aᵀ + s (ε I + L) / (ε + mean valence), L the graph
+/// Laplacian of the interior vertices (full valence on the diagonal, −1 per interior
+/// neighbour): the solve's x must satisfy that system, built here from the faces' edges
+/// and the dense A alone. `Damping::Identity` is the plain shift, bit for bit.
+#[test]
+fn graph_laplacian_damping_solves_the_shifted_system() {
+    use flatcut_flattenable::Damping;
+    use flatcut_flattenable::least_norm::GRAPH_DAMPING_EPSILON;
+    use std::collections::BTreeSet;
+
+    let mesh = rough_saddle(9);
+    let at = common::AtInput::new(&mesh);
+    let (layout, grad) = (&at.layout, &at.grad);
+    let n = layout.n();
+    let b: Vec<f64> = at.theta.iter().map(|t| TAU - t).collect();
+    let shift = 0.3 * at.mean_diagonal;
+
+    // Undirected edges from the faces; interior index per vertex.
+    let mut edges = BTreeSet::new();
+    for f in &mesh.faces {
+        for k in 0..3 {
+            let (p, q) = (f[k], f[(k + 1) % 3]);
+            edges.insert((p.min(q), p.max(q)));
+        }
+    }
+    let mut interior_of = vec![usize::MAX; mesh.vertex_count()];
+    for (i, &p) in layout.interior.iter().enumerate() {
+        interior_of[p as usize] = i;
+    }
+    let mut valence = vec![0.0; n];
+    let mut pairs = Vec::new();
+    for &(p, q) in &edges {
+        let (ip, iq) = (interior_of[p as usize], interior_of[q as usize]);
+        if ip != usize::MAX {
+            valence[ip] += 1.0;
+        }
+        if iq != usize::MAX {
+            valence[iq] += 1.0;
+        }
+        if ip != usize::MAX && iq != usize::MAX {
+            pairs.push((ip, iq));
+        }
+    }
+    let mean = valence.iter().sum::<f64>() / n as f64;
+    let unit = shift / (GRAPH_DAMPING_EPSILON + mean);
+
+    let mut factor = layout.new_factor().unwrap();
+    layout
+        .refactor_damped(&mut factor, &at.normal, shift, Damping::GraphLaplacian)
+        .unwrap();
+    let mut x = b.clone();
+    layout.solve(&factor, &mut x, 1);
+
+    // (A Aᵀ + unit (ε I + L)) x with the dense A (isotropic metric, weights 1).
+    let a = dense_a(layout, grad);
+    let xm = Mat::<f64>::from_fn(n, 1, |i, _| x[i]);
+    let aatx = &a * (a.transpose() * &xm);
+    let mut y: Vec<f64> = (0..n)
+        .map(|i| aatx[(i, 0)] + unit * (GRAPH_DAMPING_EPSILON + valence[i]) * x[i])
+        .collect();
+    for &(i, j) in &pairs {
+        y[i] -= unit * x[j];
+        y[j] -= unit * x[i];
+    }
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let r: Vec<f64> = y.iter().zip(&b).map(|(p, q)| p - q).collect();
+    assert!(
+        norm(&r) / norm(&b) < 1e-12,
+        "residual {}",
+        norm(&r) / norm(&b)
+    );
+    // The damping matters here: it is not the identity shift's solution.
+    let mut plain = layout.new_factor().unwrap();
+    layout
+        .refactor(&mut plain, &at.normal, shift, None)
+        .unwrap();
+    let mut x_plain = b.clone();
+    layout.solve(&plain, &mut x_plain, 1);
+    let gap: Vec<f64> = x.iter().zip(&x_plain).map(|(p, q)| p - q).collect();
+    assert!(norm(&gap) > 1e-3 * norm(&x_plain), "{}", norm(&gap));
+
+    let mut identity = layout.new_factor().unwrap();
+    layout
+        .refactor_damped(&mut identity, &at.normal, shift, Damping::Identity)
+        .unwrap();
+    let mut x_identity = b.clone();
+    layout.solve(&identity, &mut x_identity, 1);
+    assert_eq!(x_identity, x_plain);
+}
