@@ -242,9 +242,11 @@ fn mh_body_scanlike_wetsuit_pipeline_meets_the_done_when() {
 /// faces, rougher: a median |2π − θ| of up to 0.12 rad) still meets the whole done-when. Its
 /// back-right leg is where that is hard: depending on round-off, its rescue hierarchy's fine
 /// level converges in 45 iterations or is cut by its 60-iteration budget near θ = 2π, after
-/// which the direct solve and the deeper hierarchy stall on the rough piece; the cut fine
-/// level then goes on from its best state and converges (docs/algorithms/flattenable.md, "A
-/// fine level continued").
+/// which the direct solve and the deeper hierarchy stall on the rough piece; the rescue
+/// hierarchy under the graph-Laplacian-shaped damping then converges it (before the
+/// twenty-third session the cut fine level went on from its best state and converged;
+/// docs/algorithms/flattenable.md, "A fine level continued", "A damping shaped like the graph
+/// Laplacian").
 #[test]
 fn mh_body_scanlike_wetsuit_at_10_mm_meets_the_done_when() {
     let (Some(_), Some(_)) = (data_mesh("mh_body_scanlike.obj"), data_mesh("mh_body.obj")) else {

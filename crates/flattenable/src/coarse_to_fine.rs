@@ -37,7 +37,8 @@ const FINE_LEVEL_BUDGET: usize = 60;
 /// hierarchies first.
 const CRAWL_AT_RAD: f64 = 1e-4;
 /// When every attempt has failed but one got this near θ = 2π (best θ_err, radians), the
-/// displacement rescue hierarchy runs once more with `Damping::GraphLaplacian`. The 85k-face
+/// displacement rescue hierarchy runs once more with `Damping::GraphLaplacian` (before the
+/// continuation of a crawling fine level). The 85k-face
 /// upper back ends at 3.2e-6 under the identity damping and converges so (docs/algorithms/
 /// flattenable.md, "A damping shaped like the graph Laplacian"); pieces that stall farther
 /// away (the saddle-like shoulder at 1.8e-3, scan pieces with darts to take out at 1e-3–1e-1)
@@ -83,7 +84,9 @@ const RESCUE_PROLONGATIONS: [Prolongation; 2] =
 /// hierarchies (deeper; displacement, then positions prolongation); last the direct solve if
 /// it has not run. A fine level gets [`FINE_LEVEL_BUDGET`] iterations to reach the tolerance;
 /// one cut off near θ = 2π ([`CRAWL_AT_RAD`]) moves the direct solve to the front of the
-/// remaining attempts. The best result by ‖θ − 2π‖² is kept, so the outcome is never worse
+/// remaining attempts. When all of these fail, with `rescue`: the displacement rescue
+/// hierarchy under `Damping::GraphLaplacian` if some attempt got within
+/// [`SHAPED_RESCUE_AT_RAD`], then the continuation of a fine level cut near θ = 2π. The best result by ‖θ − 2π‖² is kept, so the outcome is never worse
 /// than the direct solve's; the kept run's report carries the others' messages, rejected
 /// steps and factorisations (every attempt's).
 pub fn run(
@@ -126,7 +129,7 @@ pub fn run(
     }
     let mut tally = Tally::default();
     // Hierarchies abandoned at their coarsest level: (level face counts, summary).
-    let mut dead: Vec<(Vec<usize>, String)> = Vec::new();
+    let mut seen = Seen::default();
     // The best state of a fine level cut by its budget near θ = 2π (its merit).
     let mut crawler: Option<(f64, Vec<[f64; 3]>)> = None;
     let merit = |p: &[[f64; 3]]| {
@@ -166,11 +169,17 @@ pub fn run(
                 handed_over = outcome.handed_over;
                 outcome.positions
             }
-            Some(h) => match pass((piece, local, w_local), opts, h, what, &mut dead, &mut rep)? {
+            Some(h) => match pass((piece, local, w_local), opts, h, what, &mut seen, &mut rep)? {
                 Pass::NoLevels if k == 0 => {
                     return Ok(robust::run(piece, opts, report).positions);
                 }
                 Pass::NoLevels => continue,
+                Pass::Repeated(summary) => {
+                    tally.notes.push(format!(
+                        "{what} not run: the same levels and prolongation as an earlier attempt ({summary})"
+                    ));
+                    continue;
+                }
                 Pass::Abandoned(summary) => {
                     tally.notes.push(format!(
                         "{what} abandoned ({summary}): a coarse level did not reach {:.0e} rad",
@@ -225,7 +234,22 @@ pub fn run(
         }
         tally.consider(m, out, rep);
     }
-    // Every attempt failed. A fine level cut by its budget near θ = 2π was still converging:
+    // The shaped damping first, then the crawling fine level's continuation: on the 85k upper
+    // back the continuation ran 388 iterations (~60 s) without converging before the shaped
+    // rescue converged it; on the scan's leg at 10 mm, which the continuation converged, the
+    // shaped rescue converges it too, nearer the input (docs/algorithms/flattenable.md, "A
+    // damping shaped like the graph Laplacian").
+    if let Some(out) = shaped_rescue(
+        (piece, local, w_local),
+        opts,
+        nearest,
+        &merit,
+        &mut tally,
+        report,
+    )? {
+        return Ok(out);
+    }
+    // Every attempt failed, the shaped one too. A fine level cut by its budget near θ = 2π was still converging:
     // the budget is there so that the direct solve, faster where a cap's fine level crawls,
     // runs first; when the direct solve and the deeper hierarchies did not converge either
     // (rough scan pieces), that fine level's best state goes on, once, without a budget.
@@ -249,57 +273,7 @@ pub fn run(
             return Ok(out);
         }
         // Kept only if nearer θ = 2π than every attempt (its start was one of them).
-        nearest = nearest.min(best_reached(&rep, true));
         tally.consider(merit(&out), out, rep);
-    }
-    // Last, for a piece that got near θ = 2π: the deeper hierarchy with the damping shaped
-    // like the graph Laplacian, which damps the smooth part of the residual less than the
-    // rough part (what such a piece has left after the attempts above is a broad, smooth
-    // deficit that the identity damping takes away together with the rough modes it must
-    // hold back).
-    if c2f.rescue && opts.damping == Damping::Identity && nearest <= SHAPED_RESCUE_AT_RAD {
-        let shaped = ProcessOptions {
-            damping: Damping::GraphLaplacian,
-            ..opts.clone()
-        };
-        let h = CoarseToFine {
-            min_faces: RESCUE_MIN_FACES,
-            levels: RESCUE_LEVELS,
-            prolongation: RESCUE_PROLONGATIONS[0],
-            ..c2f.clone()
-        };
-        let what = "rescue coarse-to-fine with graph-Laplacian damping";
-        let mut rep = fresh(report);
-        // Its coarse levels are solved under the other damping, so none is known dead.
-        match pass(
-            (piece, local, w_local),
-            &shaped,
-            &h,
-            what,
-            &mut Vec::new(),
-            &mut rep,
-        )? {
-            Pass::NoLevels => {}
-            Pass::Abandoned(summary) => {
-                tally.notes.push(format!(
-                    "{what} abandoned ({summary}): a coarse level did not reach {:.0e} rad",
-                    opts.tolerance_rad.max(c2f.coarse_tolerance_rad)
-                ));
-                tally.count(&rep);
-            }
-            Pass::Fine(out) => {
-                if rep.converged {
-                    *report = tally.converged(rep);
-                    return Ok(out);
-                }
-                tally.notes.push(format!(
-                    "{what} did not converge (best θ_err {:.1e} in {} iterations)",
-                    best_reached(&rep, true),
-                    rep.iterations
-                ));
-                tally.consider(merit(&out), out, rep);
-            }
-        }
     }
     let Some((out, kept)) = tally.best() else {
         // Every hierarchy was abandoned and the direct solve already ran first: impossible
@@ -308,6 +282,69 @@ pub fn run(
     };
     *report = kept;
     Ok(out)
+}
+
+/// After the other attempts, for a piece that got within [`SHAPED_RESCUE_AT_RAD`] of θ = 2π (`nearest`): the
+/// deeper hierarchy with the damping shaped like the graph Laplacian, which damps the smooth
+/// part of the residual less than the rough part (what such a piece has left after the other
+/// attempts is a broad, smooth deficit that the identity damping takes away together with
+/// the rough modes it must hold back). Its positions when it converges (`report` then set),
+/// else `None` (the attempt considered in `tally`).
+fn shaped_rescue(
+    (piece, local, w_local): (&Piece, &TriMesh, &[f64]),
+    opts: &ProcessOptions,
+    nearest: f64,
+    merit: &dyn Fn(&[[f64; 3]]) -> f64,
+    tally: &mut Tally,
+    report: &mut PieceReport,
+) -> Result<Option<Vec<[f64; 3]>>, FlattenableError> {
+    let c2f = &opts.coarse_to_fine;
+    if !(c2f.rescue && opts.damping == Damping::Identity && nearest <= SHAPED_RESCUE_AT_RAD) {
+        return Ok(None);
+    }
+    let shaped = ProcessOptions {
+        damping: Damping::GraphLaplacian,
+        ..opts.clone()
+    };
+    let h = CoarseToFine {
+        min_faces: RESCUE_MIN_FACES,
+        levels: RESCUE_LEVELS,
+        prolongation: RESCUE_PROLONGATIONS[0],
+        ..c2f.clone()
+    };
+    let what = "rescue coarse-to-fine with graph-Laplacian damping";
+    let mut rep = fresh(report);
+    // Its levels are solved under the other damping: nothing the other attempts did is known.
+    match pass(
+        (piece, local, w_local),
+        &shaped,
+        &h,
+        what,
+        &mut Seen::default(),
+        &mut rep,
+    )? {
+        Pass::NoLevels | Pass::Repeated(_) => {}
+        Pass::Abandoned(summary) => {
+            tally.notes.push(format!(
+                "{what} abandoned ({summary}): a coarse level did not reach {:.0e} rad",
+                opts.tolerance_rad.max(c2f.coarse_tolerance_rad)
+            ));
+            tally.count(&rep);
+        }
+        Pass::Fine(out) => {
+            if rep.converged {
+                *report = std::mem::take(tally).converged(rep);
+                return Ok(Some(out));
+            }
+            tally.notes.push(format!(
+                "{what} did not converge (best θ_err {:.1e} in {} iterations)",
+                best_reached(&rep, true),
+                rep.iterations
+            ));
+            tally.consider(merit(&out), out, rep);
+        }
+    }
+    Ok(None)
 }
 
 /// The attempts of [`run`] so far: the best unconverged one (its merit ‖θ − 2π‖², positions
@@ -404,18 +441,35 @@ enum Pass {
     Abandoned(String),
     /// The fine level ran from the prolongated start; the report says whether it converged.
     Fine(Vec<[f64; 3]>),
+    /// The same levels and prolongation as a hierarchy whose fine level already ran and did not
+    /// converge (its summary): not run again.
+    Repeated(String),
+}
+
+/// The hierarchies of one piece's attempts so far, by their levels' face counts. The
+/// coarsening is deterministic and each level is made from the one above with the same
+/// ratio, so equal face counts are equal levels: a hierarchy with different parameters
+/// (`min_faces`, `levels`) can still build the same ones (the 85k upper back's configured
+/// hierarchy and its displacement rescue hierarchy both stop at 1 664 faces) and would
+/// repeat their solves and their result.
+#[derive(Default)]
+struct Seen {
+    /// Abandoned at their coarsest level, which is solved from its own input whatever the
+    /// prolongation (summary).
+    abandoned: Vec<(Vec<usize>, String)>,
+    /// Their fine level ran and did not converge (prolongation, summary).
+    finished: Vec<(Vec<usize>, Prolongation, String)>,
 }
 
 /// One pass: the hierarchy `c2f` built, solved coarsest first, the fine level run from its
-/// prolongation into `report` (its message starts with `label`). `dead` holds the hierarchies
-/// abandoned at their coarsest level so far (level face counts, summary), which are not
-/// solved again.
+/// prolongation into `report` (its message starts with `label`). Hierarchies in `seen` are
+/// not solved again; this one is added to it.
 fn pass(
     (piece, local, w_local): (&Piece, &TriMesh, &[f64]),
     opts: &ProcessOptions,
     c2f: &CoarseToFine,
     label: &str,
-    dead: &mut Vec<(Vec<usize>, String)>,
+    seen: &mut Seen,
     report: &mut PieceReport,
 ) -> Result<Pass, FlattenableError> {
     // levels[k] maps level k (k = 0 the piece) to level k + 1.
@@ -451,10 +505,17 @@ fn pass(
     // of one already abandoned there (same face counts: the coarsening is deterministic, and
     // the prolongation does not enter) would repeat that solve and its failure.
     let key: Vec<usize> = levels.iter().map(|l| l.mesh.face_count()).collect();
-    if let Some((_, summary)) = dead.iter().find(|(k, _)| *k == key) {
+    if let Some((_, summary)) = seen.abandoned.iter().find(|(k, _)| *k == key) {
         return Ok(Pass::Abandoned(format!(
             "{summary}; the same levels as an earlier attempt, not solved again"
         )));
+    }
+    if let Some((_, _, summary)) = seen
+        .finished
+        .iter()
+        .find(|(k, how, _)| *k == key && *how == c2f.prolongation)
+    {
+        return Ok(Pass::Repeated(summary.clone()));
     }
     // Solve from the coarsest level up to level 1.
     let mut solution: Option<Vec<[f64; 3]>> = None;
@@ -503,7 +564,7 @@ fn pass(
             // 1e-3 and the fine level from its prolongation stalls at 2e-4, while the fine
             // level from its input converges).
             if k == levels.len() {
-                dead.push((key, summary.join("; ")));
+                seen.abandoned.push((key, summary.join("; ")));
             }
             return Ok(Pass::Abandoned(summary.join("; ")));
         }
@@ -528,6 +589,10 @@ fn pass(
         ),
     );
     report.rejected_steps += coarse_rejected;
+    if !report.converged {
+        seen.finished
+            .push((key, c2f.prolongation, summary.join("; ")));
+    }
     Ok(Pass::Fine(out))
 }
 

@@ -75,7 +75,7 @@ pub enum Damping {
     /// `least_norm::GRAPH_DAMPING_EPSILON`): smooth parts of the residual are damped up to
     /// ~1/ε times less than rough ones. Converges the 85k-face upper back that `Identity`
     /// does not; stalls some saddles that `Identity` converges. The coarse-to-fine rescue
-    /// tries it last (`CoarseToFine::rescue`).
+    /// tries it when every other attempt has failed near θ = 2π (`CoarseToFine::rescue`).
     GraphLaplacian,
 }
 
@@ -213,7 +213,8 @@ pub struct ProcessOptions {
     /// → 10.0 s) for the same surface (docs/algorithms/flattenable.md, "Local polish").
     pub local_polish: bool,
     /// Robust mode: shape of the step's damping. Default `Identity`; the coarse-to-fine
-    /// rescue runs one last hierarchy with `GraphLaplacian` (see [`Damping`]).
+    /// rescue runs one more hierarchy with `GraphLaplacian` when all else failed (see
+    /// [`Damping`]).
     pub damping: Damping,
     /// Called after every iteration of every run (pieces, coarse levels, polish regions),
     /// from the thread running it; it only observes. Not part of a configuration file.
