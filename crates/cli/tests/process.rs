@@ -203,6 +203,38 @@ fn unconverged_run_fails_and_writes_nothing_unless_asked() {
     assert!(String::from_utf8_lossy(&run.stderr).contains("w.txt:1"));
 }
 
+/// `flatcut process INPUT DIR/NAME.obj --report DIR/NAME.json EXTRA…`, which must succeed:
+/// the output's positions and the report.
+fn process_into(
+    dir: &std::path::Path,
+    input: &std::path::Path,
+    name: &str,
+    extra: &[&str],
+) -> (Vec<[f64; 3]>, serde_json::Value) {
+    let out = dir.join(format!("{name}.obj"));
+    let report = dir.join(format!("{name}.json"));
+    let status = flatcut()
+        .args(["process", input.to_str().unwrap(), out.to_str().unwrap()])
+        .args(["--report", report.to_str().unwrap()])
+        .args(extra)
+        .output()
+        .unwrap();
+    assert_eq!(status.status.code(), Some(0), "{status:?}");
+    let rep: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    (read_obj(&out).0, rep)
+}
+
+/// The largest distance between corresponding vertices of two outputs.
+fn farthest_apart(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| {
+            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+        })
+        .fold(0.0f64, f64::max)
+}
+
 /// `--no-local-polish` ends the run with global steps: the 55×55 cap (2 809 interior
 /// vertices) ends with a region by default and without one with the flag; both are flat to
 /// the tolerance and the same surface to a hundredth of the grid spacing. (The 40×40 cap
@@ -213,22 +245,8 @@ fn no_local_polish_ends_with_global_steps() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("cap.obj");
     std::fs::write(&input, cap_obj(55)).unwrap();
-    let run = |name: &str, extra: &[&str]| {
-        let out = dir.path().join(format!("{name}.obj"));
-        let report = dir.path().join(format!("{name}.json"));
-        let status = flatcut()
-            .args(["process", input.to_str().unwrap(), out.to_str().unwrap()])
-            .args(["--report", report.to_str().unwrap()])
-            .args(extra)
-            .output()
-            .unwrap();
-        assert_eq!(status.status.code(), Some(0), "{status:?}");
-        let rep: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
-        (read_obj(&out).0, rep)
-    };
-    let (polished, a) = run("polished", &[]);
-    let (global, b) = run("global", &["--no-local-polish"]);
+    let (polished, a) = process_into(dir.path(), &input, "polished", &[]);
+    let (global, b) = process_into(dir.path(), &input, "global", &["--no-local-polish"]);
     let polish_messages = |rep: &serde_json::Value| {
         rep["pieces"][0]["messages"]
             .as_array()
@@ -245,13 +263,7 @@ fn no_local_polish_ends_with_global_steps() {
     }
     // Grid spacing: the file's 10 units over 54 intervals (read and written as mm).
     let spacing_mm = 10.0 / 54.0;
-    let farthest = polished
-        .iter()
-        .zip(&global)
-        .map(|(p, q)| {
-            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-        })
-        .fold(0.0f64, f64::max);
+    let farthest = farthest_apart(&polished, &global);
     assert!(farthest < 0.01 * spacing_mm, "{farthest} mm");
 }
 
@@ -264,32 +276,16 @@ fn damping_flag_chooses_the_damping_shape() {
     let input = dir.path().join("cap.obj");
     std::fs::write(&input, cap_obj(20)).unwrap();
     let run = |name: &str, extra: &[&str]| {
-        let out = dir.path().join(format!("{name}.obj"));
-        let report = dir.path().join(format!("{name}.json"));
-        let status = flatcut()
-            .args(["process", input.to_str().unwrap(), out.to_str().unwrap()])
-            .args(["--report", report.to_str().unwrap()])
-            .args(extra)
-            .output()
-            .unwrap();
-        assert_eq!(status.status.code(), Some(0), "{status:?}");
-        let rep: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        let (positions, rep) = process_into(dir.path(), &input, name, extra);
         assert_eq!(rep["converged"], true, "{name}: {rep}");
         assert!(rep["final_theta_err"].as_f64().unwrap() <= 1e-9);
-        read_obj(&out).0
+        positions
     };
     let identity = run("identity", &[]);
     let explicit = run("explicit", &["--damping", "identity"]);
     let shaped = run("shaped", &["--damping", "graph-laplacian"]);
     assert_eq!(identity, explicit);
-    let farthest = identity
-        .iter()
-        .zip(&shaped)
-        .map(|(p, q)| {
-            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-        })
-        .fold(0.0f64, f64::max);
+    let farthest = farthest_apart(&identity, &shaped);
     assert!(farthest > 1e-6, "{farthest} mm");
 
     let bad = flatcut()

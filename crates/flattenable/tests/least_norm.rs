@@ -346,12 +346,19 @@ fn graph_laplacian_damping_solves_the_shifted_system() {
     let mean = valence.iter().sum::<f64>() / n as f64;
     let unit = shift / (GRAPH_DAMPING_EPSILON + mean);
 
-    let mut factor = layout.new_factor().unwrap();
-    layout
-        .refactor_damped(&mut factor, &at.normal, shift, Damping::GraphLaplacian)
-        .unwrap();
-    let mut x = b.clone();
-    layout.solve(&factor, &mut x, 1);
+    // x for b under a factor made by `make`.
+    let solve_with = |make: &dyn Fn(&mut flatcut_flattenable::least_norm::Factor)| {
+        let mut factor = layout.new_factor().unwrap();
+        make(&mut factor);
+        let mut x = b.clone();
+        layout.solve(&factor, &mut x, 1);
+        x
+    };
+    let x = solve_with(&|f| {
+        layout
+            .refactor_damped(f, &at.normal, shift, Damping::GraphLaplacian)
+            .unwrap()
+    });
 
     // (A Aᵀ + unit (ε I + L)) x with the dense A (isotropic metric, weights 1).
     let a = dense_a(layout, grad);
@@ -372,20 +379,14 @@ fn graph_laplacian_damping_solves_the_shifted_system() {
         norm(&r) / norm(&b)
     );
     // The damping matters here: it is not the identity shift's solution.
-    let mut plain = layout.new_factor().unwrap();
-    layout
-        .refactor(&mut plain, &at.normal, shift, None)
-        .unwrap();
-    let mut x_plain = b.clone();
-    layout.solve(&plain, &mut x_plain, 1);
+    let x_plain = solve_with(&|f| layout.refactor(f, &at.normal, shift, None).unwrap());
     let gap: Vec<f64> = x.iter().zip(&x_plain).map(|(p, q)| p - q).collect();
     assert!(norm(&gap) > 1e-3 * norm(&x_plain), "{}", norm(&gap));
 
-    let mut identity = layout.new_factor().unwrap();
-    layout
-        .refactor_damped(&mut identity, &at.normal, shift, Damping::Identity)
-        .unwrap();
-    let mut x_identity = b.clone();
-    layout.solve(&identity, &mut x_identity, 1);
+    let x_identity = solve_with(&|f| {
+        layout
+            .refactor_damped(f, &at.normal, shift, Damping::Identity)
+            .unwrap()
+    });
     assert_eq!(x_identity, x_plain);
 }

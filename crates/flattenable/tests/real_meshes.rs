@@ -186,6 +186,15 @@ fn mh_body_subdiv2_pieces() {
     }
 }
 
+/// The upper back cut from mh_body_subdiv2 (None when FLATCUT_DATA is unset).
+fn subdiv2_upper_back() -> Option<TriMesh> {
+    let body = body("mh_body_subdiv2.obj")?;
+    body_pieces(&body)
+        .into_iter()
+        .find(|(name, _)| *name == "upper back")
+        .map(|(_, piece)| piece)
+}
+
 /// The upper back of mh_body_subdiv2 at scan resolution: one Loop subdivision, 21k faces.
 /// Its direct solve, which runs first above 15k faces, sits at θ_err ~8e-4 under heavy
 /// damping from its 20th iteration; it hands the piece over to coarse-to-fine, whose
@@ -195,13 +204,9 @@ fn mh_body_subdiv2_pieces() {
 #[test]
 #[ignore = "a 21k-face piece of a 428k-face body: run in release"]
 fn mh_body_subdiv2_upper_back_at_scan_resolution_is_handed_over() {
-    let Some(body) = body("mh_body_subdiv2.obj") else {
+    let Some(piece) = subdiv2_upper_back() else {
         return;
     };
-    let (_, piece) = body_pieces(&body)
-        .into_iter()
-        .find(|(name, _)| *name == "upper back")
-        .unwrap();
     let fine = loop_subdivide(&piece);
     assert_eq!(fine.faces.len(), 4 * piece.faces.len());
     let r = check_mesh("upper back, subdivided", &fine, 500, true);
@@ -226,13 +231,9 @@ fn mh_body_subdiv2_upper_back_at_scan_resolution_is_handed_over() {
 #[test]
 #[ignore = "an 85k-face piece of a 428k-face body: run in release"]
 fn mh_body_subdiv2_upper_back_at_85k_faces_converges_through_the_shaped_damping() {
-    let Some(body) = body("mh_body_subdiv2.obj") else {
+    let Some(piece) = subdiv2_upper_back() else {
         return;
     };
-    let (_, piece) = body_pieces(&body)
-        .into_iter()
-        .find(|(name, _)| *name == "upper back")
-        .unwrap();
     let fine = loop_subdivide(&loop_subdivide(&piece));
     assert_eq!(fine.faces.len(), 16 * piece.faces.len());
     let r = process(&fine, &ProcessOptions::default()).unwrap();
