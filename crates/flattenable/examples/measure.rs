@@ -518,9 +518,18 @@ fn diag(input: &flatcut_mesh::TriMesh, out: &flatcut_mesh::TriMesh) {
     }
 }
 
+/// `DAMPING=graph-laplacian`: the damping shaped like the graph Laplacian (the default
+/// otherwise).
+fn damping_from_env() -> flatcut_flattenable::Damping {
+    match std::env::var("DAMPING").as_deref() {
+        Ok("graph-laplacian") => flatcut_flattenable::Damping::GraphLaplacian,
+        _ => flatcut_flattenable::Damping::Identity,
+    }
+}
+
 /// Pieces cut from the MakeHuman body (decimetres, y up, +z front; MANIFEST landmarks):
 /// upper back, chest, left shoulder cap, left front thigh; on mh_body and on its 2×
-/// subdivision (BODY=mh_body_subdiv2).
+/// subdivision (BODY=mh_body_subdiv2); DAMPING as `damping_from_env`.
 fn bodies() {
     let dir = std::env::var("FLATCUT_DATA").expect("set FLATCUT_DATA");
     let body = std::env::var("BODY").unwrap_or("mh_body".into());
@@ -566,6 +575,7 @@ fn bodies() {
         let opts = ProcessOptions {
             target,
             coarse_to_fine: c2f_from_env(),
+            damping: damping_from_env(),
             ..Default::default()
         };
         let t = std::time::Instant::now();

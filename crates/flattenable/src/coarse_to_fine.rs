@@ -86,7 +86,9 @@ const RESCUE_PROLONGATIONS: [Prolongation; 2] =
 /// one cut off near θ = 2π ([`CRAWL_AT_RAD`]) moves the direct solve to the front of the
 /// remaining attempts. When all of these fail, with `rescue`: the displacement rescue
 /// hierarchy under `Damping::GraphLaplacian` if some attempt got within
-/// [`SHAPED_RESCUE_AT_RAD`], then the continuation of a fine level cut near θ = 2π. The best result by ‖θ − 2π‖² is kept, so the outcome is never worse
+/// [`SHAPED_RESCUE_AT_RAD`], then the continuation of a fine level cut near θ = 2π. A direct
+/// solve that hands the piece over (stuck far from θ = 2π under heavy damping) is followed by
+/// that shaped hierarchy at once, before the identity ones, which run only if it fails. The best result by ‖θ − 2π‖² is kept, so the outcome is never worse
 /// than the direct solve's; the kept run's report carries the others' messages, rejected
 /// steps and factorisations (every attempt's).
 pub fn run(
@@ -128,7 +130,7 @@ pub fn run(
         attempts.push(None);
     }
     let mut tally = Tally::default();
-    // Hierarchies abandoned at their coarsest level: (level face counts, summary).
+    // Hierarchies abandoned at a coarse level or whose fine level failed (`Seen`).
     let mut seen = Seen::default();
     // The best state of a fine level cut by its budget near θ = 2π (its merit).
     let mut crawler: Option<(f64, Vec<[f64; 3]>)> = None;
@@ -141,6 +143,8 @@ pub fn run(
     let mut nearest = f64::INFINITY;
     let mut pending: VecDeque<Option<CoarseToFine>> = attempts.into();
     let mut tried = 0usize;
+    // Whether the shaped rescue hierarchy has run (it runs at most once).
+    let mut shaped_tried = false;
     while let Some(attempt) = pending.pop_front() {
         let k = tried;
         tried += 1;
@@ -233,20 +237,30 @@ pub fn run(
             crawler = Some((m, out.clone()));
         }
         tally.consider(m, out, rep);
+        // A hand-over is a large piece stuck far from θ = 2π under heavy damping: a broad,
+        // smooth deficit, which the shaped damping moves and the identity damping holds back
+        // with the rough modes. Its hierarchy first: the 85k upper back and the 37k thigh
+        // converge there 2.2× / 2.1× sooner than through the identity hierarchies
+        // (docs/algorithms/flattenable.md, "A damping shaped like the graph Laplacian").
+        if handed_over && shaped_allowed(opts) && !shaped_tried {
+            shaped_tried = true;
+            if let Some(out) =
+                shaped_rescue((piece, local, w_local), opts, &merit, &mut tally, report)?
+            {
+                return Ok(out);
+            }
+        }
     }
     // The shaped damping first, then the crawling fine level's continuation: on the 85k upper
     // back the continuation ran 388 iterations (~60 s) without converging before the shaped
     // rescue converged it; on the scan's leg at 10 mm, which the continuation converged, the
     // shaped rescue converges it too, nearer the input (docs/algorithms/flattenable.md, "A
     // damping shaped like the graph Laplacian").
-    if let Some(out) = shaped_rescue(
-        (piece, local, w_local),
-        opts,
-        nearest,
-        &merit,
-        &mut tally,
-        report,
-    )? {
+    if !shaped_tried
+        && shaped_allowed(opts)
+        && nearest <= SHAPED_RESCUE_AT_RAD
+        && let Some(out) = shaped_rescue((piece, local, w_local), opts, &merit, &mut tally, report)?
+    {
         return Ok(out);
     }
     // Every attempt failed, the shaped one too. A fine level cut by its budget near θ = 2π was still converging:
@@ -284,8 +298,14 @@ pub fn run(
     Ok(out)
 }
 
-/// After the other attempts, for a piece that got within [`SHAPED_RESCUE_AT_RAD`] of θ = 2π (`nearest`): the
-/// deeper hierarchy with the damping shaped like the graph Laplacian, which damps the smooth
+/// Whether [`shaped_rescue`] may run under `opts`: with the rescue on, and not when the
+/// shaped damping is the run's own already.
+fn shaped_allowed(opts: &ProcessOptions) -> bool {
+    opts.coarse_to_fine.rescue && opts.damping == Damping::Identity
+}
+
+/// After a hand-over, or after the other attempts for a piece that got within
+/// [`SHAPED_RESCUE_AT_RAD`] of θ = 2π: the deeper hierarchy with the damping shaped like the graph Laplacian, which damps the smooth
 /// part of the residual less than the rough part (what such a piece has left after the other
 /// attempts is a broad, smooth deficit that the identity damping takes away together with
 /// the rough modes it must hold back). Its positions when it converges (`report` then set),
@@ -293,15 +313,11 @@ pub fn run(
 fn shaped_rescue(
     (piece, local, w_local): (&Piece, &TriMesh, &[f64]),
     opts: &ProcessOptions,
-    nearest: f64,
     merit: &dyn Fn(&[[f64; 3]]) -> f64,
     tally: &mut Tally,
     report: &mut PieceReport,
 ) -> Result<Option<Vec<[f64; 3]>>, FlattenableError> {
     let c2f = &opts.coarse_to_fine;
-    if !(c2f.rescue && opts.damping == Damping::Identity && nearest <= SHAPED_RESCUE_AT_RAD) {
-        return Ok(None);
-    }
     let shaped = ProcessOptions {
         damping: Damping::GraphLaplacian,
         ..opts.clone()
@@ -454,9 +470,12 @@ enum Pass {
 /// repeat their solves and their result.
 #[derive(Default)]
 struct Seen {
-    /// Abandoned at their coarsest level, which is solved from its own input whatever the
-    /// prolongation (summary).
-    abandoned: Vec<(Vec<usize>, String)>,
+    /// Abandoned at a coarse level: the face counts from the coarsest level to that one, the
+    /// prolongation (`None` at the coarsest level, which is solved from its own input
+    /// whatever the prolongation), summary. Any hierarchy that starts with those levels
+    /// solves them the same way and is abandoned there too (the 88k shoulder's configured
+    /// and displacement rescue hierarchies each spent 276 iterations on their 5.5k level).
+    abandoned: Vec<(Vec<usize>, Option<Prolongation>, String)>,
     /// Their fine level ran and did not converge (prolongation, summary).
     finished: Vec<(Vec<usize>, Prolongation, String)>,
 }
@@ -501,11 +520,14 @@ fn pass(
         tolerance_rad: opts.tolerance_rad.max(c2f.coarse_tolerance_rad),
         ..opts.clone()
     };
-    // The coarsest level is solved from its own input, so a hierarchy whose levels are those
-    // of one already abandoned there (same face counts: the coarsening is deterministic, and
-    // the prolongation does not enter) would repeat that solve and its failure.
+    // A hierarchy whose coarsest levels are those of one already abandoned (same face
+    // counts: the coarsening is deterministic; the same prolongation, except at the coarsest
+    // level, which starts from its own input) would repeat those solves and that failure.
     let key: Vec<usize> = levels.iter().map(|l| l.mesh.face_count()).collect();
-    if let Some((_, summary)) = seen.abandoned.iter().find(|(k, _)| *k == key) {
+    let coarsest_first: Vec<usize> = key.iter().rev().copied().collect();
+    if let Some((_, _, summary)) = seen.abandoned.iter().find(|(solved, how, _)| {
+        coarsest_first.starts_with(solved) && how.is_none_or(|h| h == c2f.prolongation)
+    }) {
         return Ok(Pass::Abandoned(format!(
             "{summary}; the same levels as an earlier attempt, not solved again"
         )));
@@ -563,9 +585,12 @@ fn pass(
             // near the fine solution (measured: the 100×100 saddle's coarse level stalls at
             // 1e-3 and the fine level from its prolongation stalls at 2e-4, while the fine
             // level from its input converges).
-            if k == levels.len() {
-                seen.abandoned.push((key, summary.join("; ")));
-            }
+            let how = (k < levels.len()).then_some(c2f.prolongation);
+            seen.abandoned.push((
+                coarsest_first[..=levels.len() - k].to_vec(),
+                how,
+                summary.join("; "),
+            ));
             return Ok(Pass::Abandoned(summary.join("; ")));
         }
         solution = Some(pos);
