@@ -887,6 +887,7 @@ fn saddles() {
     let seeds: Vec<u64> = env_list("SEEDS", (0..7).collect());
     let mut opts = ProcessOptions {
         coarse_to_fine: c2f_from_env(),
+        damping: damping_from_env(),
         ..Default::default()
     };
     if std::env::var("TARGET").as_deref() == Ok("zero") {

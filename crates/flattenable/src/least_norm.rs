@@ -764,6 +764,23 @@ impl Layout {
 
     /// [`Layout::refactor`] of `values + shift · D`, D shaped as `damping` says (robust
     /// mode's damped step).
+    /// The graph-Laplacian damping's matrix D = (ε I + L) / (ε + mean valence) as triplets
+    /// (interior indices): the metric of the shaped damping's merit ‖θ − 2π‖²_{D⁻¹}.
+    pub fn graph_damping_triplets(&self) -> flatcut_sparse::Triplets {
+        let n = self.n();
+        let unit = 1.0 / (GRAPH_DAMPING_EPSILON + self.mean_valence);
+        let mut t = flatcut_sparse::Triplets::with_capacity(n, self.col.len());
+        for i in 0..n {
+            t.push(i, i, unit * (GRAPH_DAMPING_EPSILON + self.valence[i]));
+            for &j in &self.col[self.row_ptr[i] + 1..self.row_ptr[i + 1]] {
+                if (j as usize) < i {
+                    t.push(i, j as usize, -unit);
+                }
+            }
+        }
+        t
+    }
+
     pub fn refactor_damped(
         &self,
         factor: &mut Factor,

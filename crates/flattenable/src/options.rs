@@ -75,7 +75,10 @@ pub enum Damping {
     /// `least_norm::GRAPH_DAMPING_EPSILON`): smooth parts of the residual are damped up to
     /// ~1/ε times less than rough ones. Converges the 85k-face upper back that `Identity`
     /// does not; stalls some saddles that `Identity` converges. The coarse-to-fine rescue
-    /// tries it when every other attempt has failed near θ = 2π (`CoarseToFine::rescue`).
+    /// tries it right after a large piece's direct solve hands the piece over, and when
+    /// every other attempt has failed near θ = 2π (`CoarseToFine::rescue`). The levels of
+    /// its hierarchies measure ‖θ − 2π‖ in the D⁻¹ norm, in which its heavily damped steps
+    /// descend; a direct solve keeps the plain norm.
     GraphLaplacian,
 }
 

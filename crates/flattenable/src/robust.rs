@@ -42,7 +42,7 @@ use std::f64::consts::TAU;
 
 use crate::laplacian::LeastSquareUpdate;
 use crate::least_norm::{Layout, Metric};
-use crate::options::{ProcessOptions, Target, Update};
+use crate::options::{Damping, ProcessOptions, Target, Update};
 use crate::piece::{Piece, beyond};
 use crate::pull_back::{
     self, AreaRow, PULL_BACK_AT_RAD, PULL_BACK_MAX_ERR_RAD, PULL_BACK_REFUSALS,
@@ -201,14 +201,23 @@ pub struct RobustOutcome {
 
 /// Runs robust mode on one piece; fills `report` (converged or not).
 pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> RobustOutcome {
-    run_from(piece, &piece.pos0, opts, None, report)
+    run_inner(
+        piece,
+        &piece.pos0,
+        opts,
+        None,
+        Polish::of(opts),
+        Kind::DIRECT,
+        report,
+    )
 }
 
 /// [`run`] started from `start` (same boundary as the input) instead of the input; the
 /// fold guard, the pull-backs and every displacement still refer to the input `piece.pos0`
 /// (coarse-to-fine starts the fine level from a prolongated solution). With `budget`, the
 /// run gives up after that many iterations unless it has reached the tolerance by then
-/// (coarse-to-fine then tries the direct solve instead of crawling on).
+/// (coarse-to-fine then tries the direct solve instead of crawling on). Under
+/// `Damping::GraphLaplacian` its merit is measured in that damping's norm ([`MeritNorm`]).
 pub fn run_from(
     piece: &Piece,
     start: &[[f64; 3]],
@@ -216,7 +225,15 @@ pub fn run_from(
     budget: Option<usize>,
     report: &mut PieceReport,
 ) -> RobustOutcome {
-    run_inner(piece, start, opts, budget, Polish::of(opts), false, report)
+    run_inner(
+        piece,
+        start,
+        opts,
+        budget,
+        Polish::of(opts),
+        Kind::in_hierarchy(opts),
+        report,
+    )
 }
 
 /// [`run`] as the direct solve of a piece above `CoarseToFine::max_faces` that
@@ -234,7 +251,10 @@ pub fn run_before_hierarchy(
         opts,
         None,
         Polish::of(opts),
-        true,
+        Kind {
+            hand_over: true,
+            shaped_merit: false,
+        },
         report,
     )
 }
@@ -248,7 +268,41 @@ pub fn run_coarse_level(
     opts: &ProcessOptions,
     report: &mut PieceReport,
 ) -> RobustOutcome {
-    run_inner(piece, start, opts, None, Polish::Coarse, false, report)
+    run_inner(
+        piece,
+        start,
+        opts,
+        None,
+        Polish::Coarse,
+        Kind::in_hierarchy(opts),
+        report,
+    )
+}
+
+/// What kind of run [`run_inner`] is.
+#[derive(Clone, Copy)]
+struct Kind {
+    /// The direct solve before coarse-to-fine hierarchies: it may hand the piece over.
+    hand_over: bool,
+    /// The merit in the shaped damping's norm ([`MeritNorm`]): for the levels of a
+    /// hierarchy under `Damping::GraphLaplacian`, not for a direct solve from the input.
+    shaped_merit: bool,
+}
+
+impl Kind {
+    /// A direct solve from the input.
+    const DIRECT: Kind = Kind {
+        hand_over: false,
+        shaped_merit: false,
+    };
+
+    /// A level of a coarse-to-fine hierarchy under `opts`.
+    fn in_hierarchy(opts: &ProcessOptions) -> Self {
+        Kind {
+            hand_over: false,
+            shaped_merit: opts.damping == Damping::GraphLaplacian,
+        }
+    }
 }
 
 /// How a run ends.
@@ -285,9 +339,10 @@ fn run_inner(
     opts: &ProcessOptions,
     budget: Option<usize>,
     polish: Polish,
-    hand_over: bool,
+    kind: Kind,
     report: &mut PieceReport,
 ) -> RobustOutcome {
+    let hand_over = kind.hand_over;
     let local = matches!(polish, Polish::Local);
     let layout = &piece.layout;
     let n = layout.n();
@@ -297,10 +352,18 @@ fn run_inner(
     let mut grad = vec![[0.0; 3]; layout.entries()];
     let mut normal = vec![0.0; layout.normal_nnz()];
     layout.evaluate(&pos, &mut theta, &mut grad);
+    // The shaped damping's norm for the merit (its matrix factorised once per run); the
+    // plain merit if that factorisation fails (it is positive definite: ε > 0).
+    let shaped_triplets = kind.shaped_merit.then(|| layout.graph_damping_triplets());
+    let shaped_pattern = shaped_triplets.as_ref().and_then(|t| t.pattern().ok());
+    let norm = match (&shaped_pattern, &shaped_triplets) {
+        (Some(p), Some(t)) => MeritNorm::shaped(p, t.values()).unwrap_or_else(MeritNorm::plain),
+        _ => MeritNorm::plain(),
+    };
     // The merit's dead zone: 0 until θ_err is within `DEAD_ZONE_FROM_RAD`, then
     // `DEAD_ZONE_FRACTION` of the tolerance.
     let mut dead_zone = 0.0;
-    let (mut err, mut f) = Piece::merit(&theta, dead_zone);
+    let (mut err, mut f) = norm.merit(&theta, dead_zone);
     report.theta_err.push(err);
     // One set of factorisation buffers for every step of the run (only an allocation
     // failure stops here: the start is returned, unconverged, with the reason).
@@ -398,7 +461,7 @@ fn run_inner(
         // From here the merit has one definition, so the best state restarts from this one.
         if dead_zone == 0.0 && err <= DEAD_ZONE_FROM_RAD {
             dead_zone = DEAD_ZONE_FRACTION * opts.tolerance_rad;
-            f = Piece::merit(&theta, dead_zone).1;
+            f = norm.merit(&theta, dead_zone).1;
             best = Best::new(f, &pos, report.factorizations);
             best.at = report.iterations;
         }
@@ -441,7 +504,7 @@ fn run_inner(
                 pull_backs = 0;
             }
             layout.evaluate(&pos, &mut theta, &mut grad);
-            (err, f) = Piece::merit(&theta, dead_zone);
+            (err, f) = norm.merit(&theta, dead_zone);
             report
                 .messages
                 .push(format!("pull-back undone after {spent} iterations: {why}"));
@@ -497,7 +560,7 @@ fn run_inner(
             };
             pos = pulled;
             layout.evaluate(&pos, &mut theta, &mut grad);
-            (err, f) = Piece::merit(&theta, dead_zone);
+            (err, f) = norm.merit(&theta, dead_zone);
             report.iterations += 1;
             report.pull_backs += 1;
             report.theta_err.push(err);
@@ -539,7 +602,7 @@ fn run_inner(
             if let Some(lifted) = lift_flat_excess(piece, layout, &pos, &theta, err, &reach) {
                 pos = lifted;
                 layout.evaluate(&pos, &mut theta, &mut grad);
-                (err, f) = Piece::merit(&theta, dead_zone);
+                (err, f) = norm.merit(&theta, dead_zone);
                 report.iterations += 1;
                 report.theta_err.push(err);
                 best.restart(f, report.iterations, report.factorizations);
@@ -581,7 +644,8 @@ fn run_inner(
             && (pull_backs == 0 || report.pull_backs == 0)
             && n >= LOCAL_MIN_INTERIOR
             && report.iterations >= local_retry_at
-            && let Some(done) = polish_region(piece, &pos, (&theta, f, dead_zone), mu, opts, report)
+            && let Some(done) =
+                polish_region(piece, &pos, (&theta, f, dead_zone), mu, opts, &norm, report)
         {
             match done {
                 RegionRun::Gained {
@@ -598,7 +662,7 @@ fn run_inner(
                     theta = polished_theta;
                     layout.gradient(&pos, &mut grad);
                     let before = f;
-                    (err, f) = Piece::merit(&theta, dead_zone);
+                    (err, f) = norm.merit(&theta, dead_zone);
                     best.record(f, &pos, report.iterations, report.factorizations);
                     // A region that did not finish but gained goes on at once, around what
                     // is left; one that gained little gives the global steps a turn.
@@ -731,7 +795,7 @@ fn run_inner(
             }
             let mut f_trial = if folded == 0 {
                 layout.theta(&trial, &mut trial_theta);
-                Piece::merit(&trial_theta, dead_zone).1
+                norm.merit(&trial_theta, dead_zone).1
             } else {
                 f64::INFINITY
             };
@@ -766,11 +830,11 @@ fn run_inner(
                     }
                     let mut cand_theta = vec![0.0; n];
                     layout.theta(&cand, &mut cand_theta);
-                    let f_cand = Piece::merit(&cand_theta, dead_zone).1;
+                    let f_cand = norm.merit(&cand_theta, dead_zone).1;
                     // The fold guard only for a correction the merit would keep (about half
                     // of them are not).
                     let kept = keep_correction(f_trial, f_cand, relaxed, || {
-                        model_merit(&r, &layout.apply(&grad, &dc), 1.0)
+                        norm.model(&r, &layout.apply(&grad, &dc), 1.0)
                     });
                     if !kept || piece.folded_faces(&cand) > 0 {
                         break;
@@ -794,7 +858,7 @@ fn run_inner(
             }
             // Predicted decrease of the linear model.
             let ad = layout.apply(&grad, &d);
-            let pred = f - model_merit(&b, &ad, 1.0);
+            let pred = f - norm.model(&b, &ad, 1.0);
             let rho = if pred > 0.0 {
                 (f - f_trial) / pred
             } else {
@@ -834,6 +898,7 @@ fn run_inner(
             if ls.is_none()
                 && let Some((short, short_theta)) = backtrack(
                     piece, layout, &pos, &interior, &d, &b, &ad, f, f_trial, dead_zone, n, tries,
+                    &norm,
                 )
             {
                 report.backtracked_steps += 1;
@@ -865,7 +930,7 @@ fn run_inner(
             None => std::mem::swap(&mut theta, &mut trial_theta),
         }
         layout.gradient(&pos, &mut grad);
-        (err, f) = Piece::merit(&theta, dead_zone);
+        (err, f) = norm.merit(&theta, dead_zone);
         report.iterations += 1;
         report.theta_err.push(err);
         best.record(f, &pos, report.iterations, report.factorizations);
@@ -955,6 +1020,7 @@ fn polish_region(
     (theta, merit, dead_zone): (&[f64], f64, f64),
     mu: f64,
     opts: &ProcessOptions,
+    norm: &MeritNorm<'_>,
     report: &mut PieceReport,
 ) -> Option<RegionRun> {
     let layout = &piece.layout;
@@ -980,7 +1046,10 @@ fn polish_region(
         &crate::local_polish::region_options(opts),
         Some(LOCAL_BUDGET),
         Polish::Region { mu },
-        false,
+        Kind {
+            hand_over: false,
+            shaped_merit: norm.is_shaped(),
+        },
         &mut sub,
     )
     .positions;
@@ -988,7 +1057,7 @@ fn polish_region(
     let positions = crate::local_polish::extend(&region, pos, &out);
     let mut new_theta = vec![0.0; n];
     layout.theta(&positions, &mut new_theta);
-    let (err, f) = Piece::merit(&new_theta, dead_zone);
+    let (err, f) = norm.merit(&new_theta, dead_zone);
     if f >= merit || piece.folded_faces(&positions) > 0 {
         return Some(RegionRun::Failed);
     }
@@ -1190,6 +1259,101 @@ fn first_fraction(f: f64, full_merit: f64, tries: usize) -> usize {
     quartic.saturating_sub(1).clamp(1, tries.max(1))
 }
 
+/// How a run measures its merit: ‖r‖², r = θ − 2π beyond the dead zone, or rᵀ D⁻¹ r with the
+/// D of `Damping::GraphLaplacian` (factorised once per run). The damped step with that D
+/// minimises ‖d‖²_{G⁻¹} + ‖A d − b‖²_{D⁻¹} / μm: its large-μ limit, G Aᵀ D⁻¹ b / μm, descends
+/// on the D⁻¹ merit but not always on the plain one, whose ratio test then judged the step
+/// by what it does not decrease (tested: `graph_damping_norm_is_the_damped_systems_and_
+/// heavy_damping_descends_in_it`). Measured (twenty-fourth session): the 85k upper back's
+/// shaped fine level 63 → 35 iterations, the same surface. Only for hierarchy levels
+/// ([`Kind::in_hierarchy`]): from a raw input the D⁻¹ merit, which weighs rough residuals
+/// ~1/(1000 · valence) of smooth ones, let the 37k thigh's direct solve crease (109°)
+/// (docs/algorithms/flattenable.md, "A damping shaped like the graph Laplacian").
+pub(crate) struct MeritNorm<'a> {
+    shaped: Option<flatcut_sparse::SpdFactor<'a>>,
+}
+
+impl<'a> MeritNorm<'a> {
+    pub(crate) fn plain() -> Self {
+        Self { shaped: None }
+    }
+
+    fn is_shaped(&self) -> bool {
+        self.shaped.is_some()
+    }
+
+    pub(crate) fn shaped(pattern: &'a flatcut_sparse::SpdPattern, values: &[f64]) -> Option<Self> {
+        pattern
+            .factor(values)
+            .ok()
+            .map(|f| Self { shaped: Some(f) })
+    }
+
+    /// rᵀ M r with M = I or D⁻¹.
+    fn quadratic(&self, r: &[f64]) -> f64 {
+        match &self.shaped {
+            None => r.iter().map(|x| x * x).sum(),
+            Some(f) => {
+                let mut y = r.to_vec();
+                if f.solve_in_place(&mut y, 1).is_err() {
+                    return f64::INFINITY;
+                }
+                r.iter().zip(&y).map(|(a, b)| a * b).sum()
+            }
+        }
+    }
+
+    /// θ_err and the merit.
+    pub(crate) fn merit(&self, theta: &[f64], dead_zone: f64) -> (f64, f64) {
+        match &self.shaped {
+            None => Piece::merit(theta, dead_zone),
+            Some(_) => {
+                let (err, _) = Piece::merit(theta, dead_zone);
+                (err, self.quadratic(&residual_beyond(theta, dead_zone)))
+            }
+        }
+    }
+
+    /// The model's merit after α d: ‖b − α A d‖² in this norm.
+    fn model(&self, b: &[f64], ad: &[f64], alpha: f64) -> f64 {
+        self.along(b, ad).at(alpha)
+    }
+
+    /// The model's merit along a step, for several fractions α (backtracking): in the
+    /// shaped norm the quadratic in α from two solves with D, not one per α.
+    fn along<'s>(&'s self, b: &'s [f64], ad: &'s [f64]) -> Along<'s> {
+        match &self.shaped {
+            None => Along::Plain { b, ad },
+            Some(f) => {
+                let mut y = [b.to_vec(), ad.to_vec()].concat();
+                if f.solve_in_place(&mut y, 2).is_err() {
+                    return Along::Shaped([f64::INFINITY, 0.0, 0.0]);
+                }
+                let (yb, yad) = y.split_at(b.len());
+                let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+                Along::Shaped([dot(b, yb), dot(b, yad), dot(ad, yad)])
+            }
+        }
+    }
+}
+
+/// [`MeritNorm::along`]: the model's merit at α.
+enum Along<'s> {
+    /// ‖b − α A d‖², summed as [`model_merit`] does (the same bits as before the shaped norm).
+    Plain { b: &'s [f64], ad: &'s [f64] },
+    /// bᵀD⁻¹b, bᵀD⁻¹(A d), (A d)ᵀD⁻¹(A d).
+    Shaped([f64; 3]),
+}
+
+impl Along<'_> {
+    fn at(&self, alpha: f64) -> f64 {
+        match self {
+            Along::Plain { b, ad } => model_merit(b, ad, alpha),
+            Along::Shaped([bb, bad, adad]) => bb - 2.0 * alpha * bad + alpha * alpha * adad,
+        }
+    }
+}
+
 /// The merit the linear model predicts after a step α d from a point with residual `b`:
 /// ‖b − α A d‖², given `ad` = A d. (With α = 1 the products α·(A d)ᵢ are exact, so the value
 /// is the same to the bit as ‖b − A d‖².)
@@ -1242,8 +1406,10 @@ fn backtrack(
     dead_zone: f64,
     n: usize,
     tries: usize,
+    norm: &MeritNorm<'_>,
 ) -> Option<(Vec<[f64; 3]>, Vec<f64>)> {
     let first = first_fraction(f, full_merit, tries);
+    let model = norm.along(b, ad);
     let mut alpha = 0.5f64.powi(first as i32);
     let mut theta = vec![0.0; n];
     for _ in first..=tries {
@@ -1261,8 +1427,8 @@ fn backtrack(
         let cand = piece.with_interior(pos, &next);
         if piece.folded_faces(&cand) == 0 {
             layout.theta(&cand, &mut theta);
-            let f_cand = Piece::merit(&theta, dead_zone).1;
-            let pred = f - model_merit(b, ad, alpha);
+            let f_cand = norm.merit(&theta, dead_zone).1;
+            let pred = f - model.at(alpha);
             if f_cand.is_finite() && f_cand < f && pred > 0.0 && (f - f_cand) / pred > RHO_ACCEPT {
                 return Some((cand, theta));
             }
