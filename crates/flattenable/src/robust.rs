@@ -201,13 +201,23 @@ pub struct RobustOutcome {
 
 /// Runs robust mode on one piece; fills `report` (converged or not).
 pub fn run(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> RobustOutcome {
+    run_direct(piece, opts, Kind::DIRECT, report)
+}
+
+/// A direct solve of the piece from its input, of `kind`.
+fn run_direct(
+    piece: &Piece,
+    opts: &ProcessOptions,
+    kind: Kind,
+    report: &mut PieceReport,
+) -> RobustOutcome {
     run_inner(
         piece,
         &piece.pos0,
         opts,
         None,
         Polish::of(opts),
-        Kind::DIRECT,
+        kind,
         report,
     )
 }
@@ -245,15 +255,12 @@ pub fn run_before_hierarchy(
     opts: &ProcessOptions,
     report: &mut PieceReport,
 ) -> RobustOutcome {
-    run_inner(
+    run_direct(
         piece,
-        &piece.pos0,
         opts,
-        None,
-        Polish::of(opts),
         Kind {
             hand_over: true,
-            shaped_merit: false,
+            ..Kind::DIRECT
         },
         report,
     )

@@ -300,25 +300,14 @@ fn refactor_reuses_buffers_and_recovers_after_a_failed_factorisation() {
     }
 }
 
-/// `Damping::GraphLaplacian` factorises A Aᵀ + s (ε I + L) / (ε + mean valence), L the graph
-/// Laplacian of the interior vertices (full valence on the diagonal, −1 per interior
-/// neighbour): the solve's x must satisfy that system, built here from the faces' edges
-/// and the dense A alone. `Damping::Identity` is the plain shift, bit for bit.
-#[test]
-fn graph_laplacian_damping_solves_the_shifted_system() {
-    use flatcut_flattenable::Damping;
-    use flatcut_flattenable::least_norm::GRAPH_DAMPING_EPSILON;
-    use std::collections::BTreeSet;
-
-    let mesh = rough_saddle(9);
-    let at = common::AtInput::new(&mesh);
-    let (layout, grad) = (&at.layout, &at.grad);
-    let n = layout.n();
-    let b: Vec<f64> = at.theta.iter().map(|t| TAU - t).collect();
-    let shift = 0.3 * at.mean_diagonal;
-
-    // Undirected edges from the faces; interior index per vertex.
-    let mut edges = BTreeSet::new();
+/// The graph Laplacian of `layout`'s interior vertices built from `mesh`'s faces alone: per
+/// interior vertex its full valence (boundary neighbours counted), and the pairs of interior
+/// neighbours (each once).
+fn interior_graph(
+    mesh: &flatcut_mesh::TriMesh,
+    layout: &Layout,
+) -> (Vec<f64>, Vec<(usize, usize)>) {
+    let mut edges = std::collections::BTreeSet::new();
     for f in &mesh.faces {
         for k in 0..3 {
             let (p, q) = (f[k], f[(k + 1) % 3]);
@@ -329,20 +318,39 @@ fn graph_laplacian_damping_solves_the_shifted_system() {
     for (i, &p) in layout.interior.iter().enumerate() {
         interior_of[p as usize] = i;
     }
-    let mut valence = vec![0.0; n];
+    let mut valence = vec![0.0; layout.n()];
     let mut pairs = Vec::new();
     for &(p, q) in &edges {
         let (ip, iq) = (interior_of[p as usize], interior_of[q as usize]);
-        if ip != usize::MAX {
-            valence[ip] += 1.0;
-        }
-        if iq != usize::MAX {
-            valence[iq] += 1.0;
+        for i in [ip, iq] {
+            if i != usize::MAX {
+                valence[i] += 1.0;
+            }
         }
         if ip != usize::MAX && iq != usize::MAX {
             pairs.push((ip, iq));
         }
     }
+    (valence, pairs)
+}
+
+/// `Damping::GraphLaplacian` factorises A Aᵀ + s (ε I + L) / (ε + mean valence), L the graph
+/// Laplacian of the interior vertices (full valence on the diagonal, −1 per interior
+/// neighbour): the solve's x must satisfy that system, built here from the faces' edges
+/// and the dense A alone. `Damping::Identity` is the plain shift, bit for bit.
+#[test]
+fn graph_laplacian_damping_solves_the_shifted_system() {
+    use flatcut_flattenable::Damping;
+    use flatcut_flattenable::least_norm::GRAPH_DAMPING_EPSILON;
+
+    let mesh = rough_saddle(9);
+    let at = common::AtInput::new(&mesh);
+    let (layout, grad) = (&at.layout, &at.grad);
+    let n = layout.n();
+    let b: Vec<f64> = at.theta.iter().map(|t| TAU - t).collect();
+    let shift = 0.3 * at.mean_diagonal;
+
+    let (valence, pairs) = interior_graph(&mesh, layout);
     let mean = valence.iter().sum::<f64>() / n as f64;
     let unit = shift / (GRAPH_DAMPING_EPSILON + mean);
 
@@ -401,7 +409,6 @@ fn graph_laplacian_damping_solves_the_shifted_system() {
 fn graph_damping_norm_is_the_damped_systems_and_heavy_damping_descends_in_it() {
     use flatcut_flattenable::Damping;
     use flatcut_flattenable::least_norm::GRAPH_DAMPING_EPSILON;
-    use std::collections::BTreeSet;
 
     let mesh = rough_saddle(9);
     let at = common::AtInput::new(&mesh);
@@ -411,30 +418,11 @@ fn graph_damping_norm_is_the_damped_systems_and_heavy_damping_descends_in_it() {
 
     // D from the faces' edges: (ε + full valence) on the diagonal, −1 per interior
     // neighbour, over ε + the mean valence.
-    let mut edges = BTreeSet::new();
-    for f in &mesh.faces {
-        for k in 0..3 {
-            let (p, q) = (f[k], f[(k + 1) % 3]);
-            edges.insert((p.min(q), p.max(q)));
-        }
-    }
-    let mut interior_of = vec![usize::MAX; mesh.vertex_count()];
-    for (i, &p) in layout.interior.iter().enumerate() {
-        interior_of[p as usize] = i;
-    }
-    let mut valence = vec![0.0; n];
+    let (valence, pairs) = interior_graph(&mesh, layout);
     let mut expected = Mat::<f64>::zeros(n, n);
-    for &(p, q) in &edges {
-        let (ip, iq) = (interior_of[p as usize], interior_of[q as usize]);
-        for i in [ip, iq] {
-            if i != usize::MAX {
-                valence[i] += 1.0;
-            }
-        }
-        if ip != usize::MAX && iq != usize::MAX {
-            expected[(ip, iq)] -= 1.0;
-            expected[(iq, ip)] -= 1.0;
-        }
+    for &(i, j) in &pairs {
+        expected[(i, j)] = -1.0;
+        expected[(j, i)] = -1.0;
     }
     let mean = valence.iter().sum::<f64>() / n as f64;
     for i in 0..n {
