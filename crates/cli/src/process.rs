@@ -68,7 +68,8 @@ pub struct ProcessArgs {
     /// Robust mode's step damping: `identity` (the default; measured best on all but the
     /// largest pieces) or `graph-laplacian` (damps smooth corrections less than rough ones:
     /// converges the 85k-face body piece that `identity` leaves at θ_err 3e-6; the default
-    /// also tries it as a last rescue). docs/algorithms/flattenable.md.
+    /// also tries it right after a large piece's direct solve stalls far from θ = 2π, and as
+    /// a last rescue). docs/algorithms/flattenable.md.
     #[arg(long, default_value = "identity", value_parser = parse_damping)]
     pub damping: Damping,
     /// Also write the report as JSON to this file.
