@@ -762,16 +762,28 @@ impl Layout {
         self.factorize_shifted(factor)
     }
 
-    /// [`Layout::refactor`] of `values + shift · D`, D shaped as `damping` says (robust
-    /// mode's damped step).
-    /// The graph-Laplacian damping's matrix D = (ε I + L) / (ε + mean valence) as triplets
-    /// (interior indices): the metric of the shaped damping's merit ‖θ − 2π‖²_{D⁻¹}.
+    /// `scale` · D for `Damping::GraphLaplacian`, D = (ε I + L) / (ε + mean valence): the
+    /// magnitude of its off-diagonal entries (−that per pair of interior neighbours) and
+    /// its diagonal, per interior vertex. The damped step and the shaped merit's norm
+    /// ([`Layout::graph_damping_triplets`]) take their D from here.
+    fn graph_damping(&self, scale: f64) -> (f64, Vec<f64>) {
+        let unit = scale / (GRAPH_DAMPING_EPSILON + self.mean_valence);
+        let diag = self
+            .valence
+            .iter()
+            .map(|d| unit * (GRAPH_DAMPING_EPSILON + d))
+            .collect();
+        (unit, diag)
+    }
+
+    /// The graph-Laplacian damping's matrix D as triplets (interior indices): the metric of
+    /// the shaped damping's merit ‖θ − 2π‖²_{D⁻¹}.
     pub fn graph_damping_triplets(&self) -> flatcut_sparse::Triplets {
         let n = self.n();
-        let unit = 1.0 / (GRAPH_DAMPING_EPSILON + self.mean_valence);
+        let (unit, diag) = self.graph_damping(1.0);
         let mut t = flatcut_sparse::Triplets::with_capacity(n, self.col.len());
-        for i in 0..n {
-            t.push(i, i, unit * (GRAPH_DAMPING_EPSILON + self.valence[i]));
+        for (i, &d) in diag.iter().enumerate() {
+            t.push(i, i, d);
             for &j in &self.col[self.row_ptr[i] + 1..self.row_ptr[i + 1]] {
                 if (j as usize) < i {
                     t.push(i, j as usize, -unit);
@@ -781,6 +793,8 @@ impl Layout {
         t
     }
 
+    /// [`Layout::refactor`] of `values + shift · D`, D shaped as `damping` says (robust
+    /// mode's damped step).
     pub fn refactor_damped(
         &self,
         factor: &mut Factor,
@@ -791,12 +805,7 @@ impl Layout {
         match damping {
             Damping::Identity => self.shift_into(factor, values, shift, None)?,
             Damping::GraphLaplacian => {
-                let unit = shift / (GRAPH_DAMPING_EPSILON + self.mean_valence);
-                let diag: Vec<f64> = self
-                    .valence
-                    .iter()
-                    .map(|d| unit * (GRAPH_DAMPING_EPSILON + d))
-                    .collect();
+                let (unit, diag) = self.graph_damping(shift);
                 self.shift_into(factor, values, 0.0, Some(&diag))?;
                 for &s in &self.ring_slots {
                     factor.shifted[s as usize] -= unit;

@@ -1276,12 +1276,12 @@ fn first_fraction(f: f64, full_merit: f64, tries: usize) -> usize {
 /// ([`Kind::in_hierarchy`]): from a raw input the D⁻¹ merit, which weighs rough residuals
 /// ~1/(1000 · valence) of smooth ones, let the 37k thigh's direct solve crease (109°)
 /// (docs/algorithms/flattenable.md, "A damping shaped like the graph Laplacian").
-pub(crate) struct MeritNorm<'a> {
+struct MeritNorm<'a> {
     shaped: Option<flatcut_sparse::SpdFactor<'a>>,
 }
 
 impl<'a> MeritNorm<'a> {
-    pub(crate) fn plain() -> Self {
+    fn plain() -> Self {
         Self { shaped: None }
     }
 
@@ -1289,7 +1289,7 @@ impl<'a> MeritNorm<'a> {
         self.shaped.is_some()
     }
 
-    pub(crate) fn shaped(pattern: &'a flatcut_sparse::SpdPattern, values: &[f64]) -> Option<Self> {
+    fn shaped(pattern: &'a flatcut_sparse::SpdPattern, values: &[f64]) -> Option<Self> {
         pattern
             .factor(values)
             .ok()
@@ -1311,7 +1311,7 @@ impl<'a> MeritNorm<'a> {
     }
 
     /// θ_err and the merit.
-    pub(crate) fn merit(&self, theta: &[f64], dead_zone: f64) -> (f64, f64) {
+    fn merit(&self, theta: &[f64], dead_zone: f64) -> (f64, f64) {
         match &self.shaped {
             None => Piece::merit(theta, dead_zone),
             Some(_) => {
