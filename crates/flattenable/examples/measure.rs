@@ -951,8 +951,18 @@ fn saddles() {
             }
         }
         let p = &rep.pieces[0];
+        let trace = if std::env::var_os("TRACE").is_some() {
+            let t: Vec<String> = p.theta_err.iter().map(|e| format!("{e:.1e}")).collect();
+            format!(
+                "\n    {}\n    θ_err: {}",
+                p.messages.join("\n    "),
+                t.join(" ")
+            )
+        } else {
+            String::new()
+        };
         format!(
-            "seed {seed}: {} it={} rej={} fact={} err={:.1e} rmsd={:.4} area={:+.3}% turn={:.1}° crease={:.1}° creased={} t={:.2}s stop={}",
+            "seed {seed}: {} it={} rej={} fact={} err={:.1e} rmsd={:.4} area={:+.3}% turn={:.1}° crease={:.1}° creased={} t={:.2}s stop={}{trace}",
             if rep.converged { "conv" } else { "NOTCONV" },
             p.iterations,
             p.rejected_steps,

@@ -105,6 +105,11 @@ pub(crate) struct Snapshot {
 pub(crate) struct Restoring {
     /// The iteration it was taken at.
     pub(crate) at: usize,
+    /// The factorisation count right after it (its projection's included, if it had one).
+    pub(crate) factorizations_at: usize,
+    /// Its unhalved move and the fraction of it taken: if it is undone, the short pull-back
+    /// that follows starts from the same state and needs no new projection.
+    pub(crate) projection: Projection,
     /// The merit right after it (what its restoring steps are judged by).
     pub(crate) pulled_merit: f64,
     /// The state before it.
@@ -164,66 +169,90 @@ pub(crate) fn verdict(
     }
 }
 
-/// The pull-back's move from `pos` (its interior `interior`, Σ ‖v⁰ − v‖² = `z2` there):
-/// near the constraint set, along its tangent space towards the input — p = z − G Aᵀ
-/// (A G Aᵀ + μ m I)⁻¹ A z with z = v⁰ − v, the G⁻¹-projection of z onto the null space of A,
-/// at the run's damping `mu` (at least `PULL_BACK_MU`) — and along the area's level set at
-/// `goal` too (the same projection with the area gradient as one more row of A). Then
-/// halved until it folds nothing and leaves θ_err ≤ `max_err`, while it still shortens the
-/// RMS displacement by `PULL_BACK_MIN_GAIN`. The rounds converge to a point of the
-/// constraint set where v⁰ − v is normal to it: a stationary point of the paper's Eq. 1
-/// (min Σ ‖v − v⁰‖², θ = 2π), i.e. the flattenable surface nearest the input rather than
-/// the end of a path of memoryless least-norm steps.
+/// The pull-back's unhalved move from `pos` (its interior `interior`): near the constraint
+/// set, along its tangent space towards the input — p = z − G Aᵀ (A G Aᵀ + μ m I)⁻¹ A z with
+/// z = v⁰ − v, the G⁻¹-projection of z onto the null space of A, at the run's damping `mu`
+/// (at least `PULL_BACK_MU`) — and along the area's level set at `goal` too (the same
+/// projection with the area gradient as one more row of A). [`shorten`] then decides how
+/// much of it to take. The rounds converge to a point of the constraint set where
+/// v⁰ − v is normal to it: a stationary point of the paper's Eq. 1 (min Σ ‖v − v⁰‖², θ =
+/// 2π), i.e. the flattenable surface nearest the input rather than the end of a path of
+/// memoryless least-norm steps.
 ///
 /// `grad` is A at `pos`; `normal` and `factor` are the run's buffers (overwritten). Counts
 /// its factorisation in `report`. `None` when no such move exists.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn project(
     input: &Input<'_>,
-    (pos, interior, z2): (&[[f64; 3]], &[[f64; 3]], f64),
+    (pos, interior): (&[[f64; 3]], &[[f64; 3]]),
     (grad, metric): (&[[f64; 3]], &Metric<'_>),
     (normal, factor): (&mut [f64], &mut Factor),
     mu: f64,
     goal: f64,
-    max_err: f64,
     report: &mut PieceReport,
 ) -> Option<Vec<[f64; 3]>> {
-    let piece = input.piece;
-    let layout: &Layout = &piece.layout;
+    let layout: &Layout = &input.piece.layout;
     layout.normal_matrix(grad, metric, normal);
     let m = layout.mean_diagonal(normal).max(f64::MIN_POSITIVE);
+    report.factorizations += 1;
+    layout
+        .refactor_damped(factor, normal, mu.max(PULL_BACK_MU) * m, input.damping)
+        .ok()?;
     let z: Vec<[f64; 3]> = input
         .anchor
         .iter()
         .zip(interior)
         .map(|(a, v)| [a[0] - v[0], a[1] - v[1], a[2] - v[2]])
         .collect();
-    report.factorizations += 1;
-    layout
-        .refactor_damped(factor, normal, mu.max(PULL_BACK_MU) * m, input.damping)
-        .ok()?;
     let p = null_space_part(layout, factor, (grad, metric), &z)?;
-    let row = AreaRow::at(piece, pos, goal);
-    let p = match row.direction(layout, factor, grad, metric) {
+    let row = AreaRow::at(input.piece, pos, goal);
+    Some(match row.direction(layout, factor, grad, metric) {
         Some(dir) => row.correct(&dir, p, row.off, 0.0),
         None => p,
-    };
+    })
+}
+
+/// A pull-back's move: the unhalved projection and the fraction of it taken.
+pub(crate) struct Projection {
+    pub(crate) direction: Vec<[f64; 3]>,
+    pub(crate) fraction: f64,
+}
+
+/// The pull-back along `direction` from `pos` (Σ ‖v⁰ − v‖² = `z2` there): the fraction
+/// `from`, halved until it folds nothing and leaves θ_err ≤ `max_err`, while it still shortens
+/// the RMS displacement by `PULL_BACK_MIN_GAIN`. The new positions and the fraction taken;
+/// `None` when no fraction does.
+///
+/// A pull-back undone is followed by a short one from the same state (the same projection),
+/// which starts at the fraction the long one took: every longer fraction folded a face or
+/// left θ_err above the long bound, which is above the short one, or stopped the halving.
+pub(crate) fn shorten(
+    input: &Input<'_>,
+    (pos, interior, z2): (&[[f64; 3]], &[[f64; 3]], f64),
+    direction: &[[f64; 3]],
+    from: f64,
+    max_err: f64,
+) -> Option<(Vec<[f64; 3]>, f64)> {
+    let piece = input.piece;
+    let layout: &Layout = &piece.layout;
     let mut beta = 1.0;
     let mut cand_theta = vec![0.0; layout.n()];
     for _ in 0..PULL_BACK_HALVINGS {
-        let moved: Vec<[f64; 3]> = interior
-            .iter()
-            .zip(&p)
-            .map(|(v, p)| [v[0] + beta * p[0], v[1] + beta * p[1], v[2] + beta * p[2]])
-            .collect();
-        if displacement2(input.anchor, &moved) > (1.0 - 2.0 * PULL_BACK_MIN_GAIN) * z2 {
-            break;
-        }
-        let cand = piece.with_interior(pos, &moved);
-        if piece.folded_faces(&cand) == 0 {
-            layout.theta(&cand, &mut cand_theta);
-            if Piece::errors(&cand_theta).0 <= max_err {
-                return Some(cand);
+        if beta <= from {
+            let moved: Vec<[f64; 3]> = interior
+                .iter()
+                .zip(direction)
+                .map(|(v, p)| [v[0] + beta * p[0], v[1] + beta * p[1], v[2] + beta * p[2]])
+                .collect();
+            if displacement2(input.anchor, &moved) > (1.0 - 2.0 * PULL_BACK_MIN_GAIN) * z2 {
+                break;
+            }
+            let cand = piece.with_interior(pos, &moved);
+            if piece.folded_faces(&cand) == 0 {
+                layout.theta(&cand, &mut cand_theta);
+                if Piece::errors(&cand_theta).0 <= max_err {
+                    return Some((cand, beta));
+                }
             }
         }
         beta *= 0.5;

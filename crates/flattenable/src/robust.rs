@@ -46,7 +46,7 @@ use crate::options::{Damping, ProcessOptions, Target, Update};
 use crate::piece::{Piece, beyond};
 use crate::pull_back::{
     self, AreaRow, PULL_BACK_AT_RAD, PULL_BACK_MAX_ERR_RAD, PULL_BACK_REFUSALS,
-    PULL_BACK_SHORT_MAX_ERR_RAD, PULL_BACKS, Restoring, Snapshot, displacement2,
+    PULL_BACK_SHORT_MAX_ERR_RAD, PULL_BACKS, Projection, Restoring, Snapshot, displacement2,
 };
 use crate::report::PieceReport;
 
@@ -434,6 +434,8 @@ fn run_inner(
     let mut pull_back_max_err = PULL_BACK_MAX_ERR_RAD;
     // Set when a restore's trials are refused more than `PULL_BACK_REFUSALS` times.
     let mut restore_refused = false;
+    // The projection of a long pull-back just undone, for the short one that follows.
+    let mut undone_projection: Option<Projection> = None;
     // Extra per-vertex stiffness (≥ 1) earned by vertices of faces that would fold.
     let mut stiff = vec![1.0f64; n];
     let mut mu = match polish {
@@ -486,7 +488,9 @@ fn run_inner(
             )
         });
         if let Some(undo) = decided
-            && let Some(Restoring { before, .. }) = restoring.take()
+            && let Some(Restoring {
+                before, projection, ..
+            }) = restoring.take()
             && let Some(why) = undo
         {
             // Undo it: back to the state before, damping, stiffness and best state included,
@@ -507,6 +511,8 @@ fn run_inner(
             // more (the detail target then ends where it stood before it).
             if pull_back_max_err > PULL_BACK_SHORT_MAX_ERR_RAD {
                 pull_back_max_err = PULL_BACK_SHORT_MAX_ERR_RAD;
+                // The short one starts from this same state: the same projection.
+                undone_projection = Some(projection);
             } else {
                 pull_backs = 0;
             }
@@ -551,16 +557,43 @@ fn run_inner(
             };
             // The area stays where the path before the first pull-back ended.
             let goal = *area_goal.get_or_insert(piece.total_area(&pos));
-            let Some(pulled) = pull_back::project(
-                &input,
-                (&pos, &interior, z2),
-                (&grad, &metric),
-                (&mut normal, &mut factor),
-                mu,
-                goal,
-                pull_back_max_err,
-                report,
-            ) else {
+            // Right after a long pull-back was undone the state is the one it was projected
+            // from (positions, damping, stiffness and area goal restored), so its projection
+            // is this one's, bit for bit, and its factorisation is saved.
+            let projection = match undone_projection.take() {
+                Some(p) => Some(p),
+                None => pull_back::project(
+                    &input,
+                    (&pos, &interior),
+                    (&grad, &metric),
+                    (&mut normal, &mut factor),
+                    mu,
+                    goal,
+                    report,
+                )
+                .map(|direction| Projection {
+                    direction,
+                    fraction: 1.0,
+                }),
+            };
+            let Some((pulled, projection)) = projection.and_then(|p| {
+                pull_back::shorten(
+                    &input,
+                    (&pos, &interior, z2),
+                    &p.direction,
+                    p.fraction,
+                    pull_back_max_err,
+                )
+                .map(|(pulled, fraction)| {
+                    (
+                        pulled,
+                        Projection {
+                            direction: p.direction,
+                            fraction,
+                        },
+                    )
+                })
+            }) else {
                 pull_backs = 0;
                 area_goal = before.area_goal;
                 continue;
@@ -576,6 +609,8 @@ fn run_inner(
             best.restart(f, report.iterations, report.factorizations);
             restoring = Some(Restoring {
                 at: report.iterations,
+                factorizations_at: report.factorizations,
+                projection,
                 pulled_merit: f,
                 before,
             });
@@ -700,9 +735,13 @@ fn run_inner(
         while mu <= MU_MAX {
             // A restore that finishes takes one factorisation per iteration; one that keeps
             // being refused is blowing up at the near-flat modes and is undone at once.
-            if let Some(Restoring { at, before, .. }) = &restoring
+            if let Some(Restoring {
+                at,
+                factorizations_at,
+                ..
+            }) = &restoring
                 && report.factorizations
-                    >= before.factorizations + (report.iterations - at) + 1 + PULL_BACK_REFUSALS
+                    >= factorizations_at + (report.iterations - at) + PULL_BACK_REFUSALS
             {
                 restore_refused = true;
                 break;
