@@ -54,7 +54,7 @@ use crate::report::PieceReport;
 const MU_START: f64 = 1e-3;
 /// Smallest relative damping: keeps the factorisation defined when rows of A vanish at
 /// flat vertices, ~1e3 above f64 round-off of the diagonal.
-const MU_MIN: f64 = 1e-13;
+pub(crate) const MU_MIN: f64 = 1e-13;
 /// Largest relative damping before giving up: the step is then ~1e-8 of the steepest
 /// descent step and no longer moves anything measurable.
 const MU_MAX: f64 = 1e8;
@@ -489,7 +489,10 @@ fn run_inner(
         });
         if let Some(undo) = decided
             && let Some(Restoring {
-                before, projection, ..
+                before,
+                projection,
+                pulled_err,
+                ..
             }) = restoring.take()
             && let Some(why) = undo
         {
@@ -508,8 +511,12 @@ fn run_inner(
             dead_zone = before.dead_zone;
             area_goal = before.area_goal;
             // After a long pull-back, one more chance with short ones; after a short one, no
-            // more (the detail target then ends where it stood before it).
-            if pull_back_max_err > PULL_BACK_SHORT_MAX_ERR_RAD {
+            // more (the detail target then ends where it stood before it). A long one that
+            // already left θ_err within the short bound is the short one too (the same state,
+            // projection and fraction): its restore would repeat and be undone again.
+            if pull_back_max_err > PULL_BACK_SHORT_MAX_ERR_RAD
+                && pulled_err > PULL_BACK_SHORT_MAX_ERR_RAD
+            {
                 pull_back_max_err = PULL_BACK_SHORT_MAX_ERR_RAD;
                 // The short one starts from this same state: the same projection.
                 undone_projection = Some(projection);
@@ -612,6 +619,7 @@ fn run_inner(
                 factorizations_at: report.factorizations,
                 projection,
                 pulled_merit: f,
+                pulled_err: err,
                 before,
             });
             continue;
