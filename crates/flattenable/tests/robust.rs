@@ -357,16 +357,18 @@ fn blow_ups_near_theta_2pi_are_backtracked_deep() {
 /// converged phase, so its first restoring step blows up (ρ ≈ −7e4 on the bench's 43×43 cap,
 /// 3.5k faces, default detail target). Backtracked deep, it costs a few θ evaluations instead
 /// of a factorisation per raise of the damping: 34 factorisations for the three pull-backs'
-/// run, 54 when it was not; the RMS displacement stays below the zero target's.
+/// run, 54 when it was not. Since the projection takes the run's damping (twenty-fifth
+/// session) one pull-back is taken and restored in two iterations, one of them backtracked:
+/// 20 factorisations; the RMS displacement stays below the zero target's.
 #[test]
 fn blow_ups_while_restoring_a_pull_back_are_backtracked_deep() {
     let mesh = common::bench_cap(43);
     let r = robust(&mesh, &ProcessOptions::default());
     assert_flat_unfolded(&mesh, &r);
     let p = &r.report.pieces[0];
-    assert!(p.pull_backs >= 2, "{p:?}");
+    assert!(p.pull_backs >= 1, "{p:?}");
     assert!(p.backtracked_steps > 0, "{p:?}");
-    assert!(p.factorizations < 45, "{} factorisations", p.factorizations);
+    assert!(p.factorizations < 25, "{} factorisations", p.factorizations);
     let zero = bench_cap_with_the_zero_target(43, 0);
     assert!(
         r.report.rms_displacement_mm < zero.report.rms_displacement_mm,
@@ -530,8 +532,9 @@ fn least_square_detail_target_is_never_worse_than_the_papers() {
     );
 }
 
-/// The bench's 92×92 cap (16.6k faces): the detail target's pull-backs there, a long one and
-/// then a short one, are not restored to θ = 2π (on the 100×100 cap, where this was first
+/// The bench's 92×92 cap (16.6k faces): the detail target's pull-back there is not restored
+/// to θ = 2π (a long one and then a short one until the twenty-fifth session; since the
+/// projection takes the run's damping no short one follows the long one) (on the 100×100 cap, where this was first
 /// seen, restoring ran 30 iterations and ended at more displacement than before: RMS 0.07118
 /// → 0.07138). Undoing one restores the whole iteration state, so the run ends on the zero
 /// target's result: the same positions bit for bit, having spent only the pull-backs'
@@ -552,12 +555,12 @@ fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
     let (detail, zero) = (run(Target::Detail), run(Target::Zero));
     assert_flat_unfolded(&mesh, &detail);
     let piece = &detail.report.pieces[0];
-    assert_eq!(piece.pull_backs, 2);
+    assert_eq!(piece.pull_backs, 1);
     let undone = piece
         .messages
         .iter()
         .filter(|m| m.starts_with("pull-back undone"));
-    assert_eq!(undone.count(), 2, "{:?}", piece.messages);
+    assert_eq!(undone.count(), 1, "{:?}", piece.messages);
     assert_eq!(detail.mesh.positions, zero.mesh.positions);
     // Each pull-back and at most three restoring iterations (slow or refused restores are
     // undone early; ten each before).
