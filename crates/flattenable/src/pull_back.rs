@@ -191,7 +191,6 @@ pub(crate) fn verdict(
 ///
 /// `grad` is A at `pos`; `normal` and `factor` are the run's buffers (overwritten). Counts
 /// its factorisation in `report`. `None` when no such move exists.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn project(
     input: &Input<'_>,
     (pos, interior): (&[[f64; 3]], &[[f64; 3]]),
@@ -228,10 +227,10 @@ pub(crate) struct Projection {
     pub(crate) fraction: f64,
 }
 
-/// The pull-back along `direction` from `pos` (Σ ‖v⁰ − v‖² = `z2` there): the fraction
-/// `from`, halved until it folds nothing and leaves θ_err ≤ `max_err`, while it still shortens
-/// the RMS displacement by `PULL_BACK_MIN_GAIN`. The new positions and the fraction taken;
-/// `None` when no fraction does.
+/// The pull-back along `projection.direction` from `pos` (Σ ‖v⁰ − v‖² = `z2` there): the
+/// fraction `projection.fraction`, halved until it folds nothing and leaves θ_err ≤
+/// `max_err`, while it still shortens the RMS displacement by `PULL_BACK_MIN_GAIN`. The new
+/// positions and the projection with the fraction taken; `None` when no fraction does.
 ///
 /// A pull-back undone is followed by a short one from the same state (the same projection),
 /// which starts at the fraction the long one took: every longer fraction folded a face or
@@ -239,10 +238,13 @@ pub(crate) struct Projection {
 pub(crate) fn shorten(
     input: &Input<'_>,
     (pos, interior, z2): (&[[f64; 3]], &[[f64; 3]], f64),
-    direction: &[[f64; 3]],
-    from: f64,
+    projection: Projection,
     max_err: f64,
-) -> Option<(Vec<[f64; 3]>, f64)> {
+) -> Option<(Vec<[f64; 3]>, Projection)> {
+    let Projection {
+        direction,
+        fraction: from,
+    } = projection;
     let piece = input.piece;
     let layout: &Layout = &piece.layout;
     let mut beta = 1.0;
@@ -251,7 +253,7 @@ pub(crate) fn shorten(
         if beta <= from {
             let moved: Vec<[f64; 3]> = interior
                 .iter()
-                .zip(direction)
+                .zip(&direction)
                 .map(|(v, p)| [v[0] + beta * p[0], v[1] + beta * p[1], v[2] + beta * p[2]])
                 .collect();
             if displacement2(input.anchor, &moved) > (1.0 - 2.0 * PULL_BACK_MIN_GAIN) * z2 {
@@ -261,7 +263,13 @@ pub(crate) fn shorten(
             if piece.folded_faces(&cand) == 0 {
                 layout.theta(&cand, &mut cand_theta);
                 if Piece::errors(&cand_theta).0 <= max_err {
-                    return Some((cand, beta));
+                    return Some((
+                        cand,
+                        Projection {
+                            direction,
+                            fraction: beta,
+                        },
+                    ));
                 }
             }
         }

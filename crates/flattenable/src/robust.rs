@@ -584,22 +584,7 @@ fn run_inner(
                 }),
             };
             let Some((pulled, projection)) = projection.and_then(|p| {
-                pull_back::shorten(
-                    &input,
-                    (&pos, &interior, z2),
-                    &p.direction,
-                    p.fraction,
-                    pull_back_max_err,
-                )
-                .map(|(pulled, fraction)| {
-                    (
-                        pulled,
-                        Projection {
-                            direction: p.direction,
-                            fraction,
-                        },
-                    )
-                })
+                pull_back::shorten(&input, (&pos, &interior, z2), p, pull_back_max_err)
             }) else {
                 pull_backs = 0;
                 area_goal = before.area_goal;
