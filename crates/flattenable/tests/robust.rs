@@ -569,6 +569,39 @@ fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
     assert!((2..=4).contains(&spent), "{spent} more iterations");
 }
 
+/// The bench's 56×56 cap (6 050 faces): its pull-back's restore passes the merit test of its
+/// first three iterations (θ_err 5.1e-3 → 1.2e-4) and then crawls (1.8e-5 after five, 8.7e-7
+/// after ten). Since the twenty-sixth session it is undone after five restoring iterations
+/// instead of ten; undone, the run ends on the zero target's positions bit for bit, having
+/// spent the pull-back and those five iterations on top.
+#[test]
+fn a_crawling_restore_is_undone_after_five_iterations() {
+    let mesh = common::bench_cap(56);
+    let run = |target| {
+        robust(
+            &mesh,
+            &ProcessOptions {
+                target,
+                ..Default::default()
+            },
+        )
+    };
+    let (detail, zero) = (run(Target::Detail), run(Target::Zero));
+    assert_flat_unfolded(&mesh, &detail);
+    let piece = &detail.report.pieces[0];
+    assert_eq!(piece.pull_backs, 1);
+    let undone: Vec<&String> = piece
+        .messages
+        .iter()
+        .filter(|m| m.starts_with("pull-back undone"))
+        .collect();
+    assert_eq!(undone.len(), 1, "{:?}", piece.messages);
+    assert!(undone[0].contains("slow, linear regime"), "{}", undone[0]);
+    assert_eq!(detail.mesh.positions, zero.mesh.positions);
+    let spent = piece.iterations - zero.report.pieces[0].iterations;
+    assert_eq!(spent, 6, "{:?}", piece.theta_err);
+}
+
 /// A piece that cannot become flat (a 120° cup, total defect 9.1 rad: it could only crumple)
 /// stalls with about five rejected trials per accepted step; the stall is counted in
 /// factorisations too, so it ends after 100 of them without a 10 % gain rather than 100
