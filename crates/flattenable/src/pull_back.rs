@@ -13,7 +13,7 @@
 //! still enlarged the area change is undone: the detail target trades no area change for its
 //! shorter displacement. Pull-backs are long (`PULL_BACK_MAX_ERR_RAD`) until one is undone,
 //! short after; a restore in the slow, linear regime after `PULL_BACK_SLOW_AFTER`
-//! iterations, still crawling after `PULL_BACK_CRAWL_AFTER`, or refused
+//! iterations, crawling after `PULL_BACK_CRAWL_AFTER`, or refused
 //! `PULL_BACK_REFUSALS` times, is undone at once.
 //! docs/algorithms/flattenable.md, "Pull-backs that hold the area".
 
@@ -65,13 +65,18 @@ const PULL_BACK_RESTORE_MAX: usize = 10;
 const PULL_BACK_SLOW_AFTER: usize = 3;
 const PULL_BACK_SLOW_GAIN: f64 = 1e-2;
 /// …and after `PULL_BACK_CRAWL_AFTER` iterations when θ_err is still above
-/// `PULL_BACK_CRAWL_ERR_RAD`: a restore can pass the merit test above with its first
-/// steps and then crawl. On the 19 sweep caps (twenty-sixth session) four restores did: the
-/// 6 050-face cap's went 5.1e-3, 2.3e-3, 4.9e-4, 1.2e-4, 7.3e-5, 1.8e-5 and, five
-/// iterations later, 8.7e-7, and was undone at ten. With this test: sweep 569 → 549
-/// factorisations, every result the same (no restore the sweep keeps is affected).
+/// `PULL_BACK_CRAWL_ERR_RAD` and has not fallen below `PULL_BACK_CRAWL_RATIO` of its value
+/// two iterations before: a restore can pass the merit test above with its first steps and
+/// then crawl. On the 19 sweep caps (twenty-sixth session) four restores did: the 6 050-face
+/// cap's went 5.1e-3, 2.3e-3, 4.9e-4, 1.2e-4, 7.3e-5, 1.8e-5 (0.15 of two before) and, five
+/// iterations later, 8.7e-7, and was undone at ten; the 14 450-face cap's was at 2.6e-5
+/// after five (0.65 of two before). A restore that finishes speeds up instead: the 37k-face
+/// thigh of docs/algorithms/flattenable.md's body pieces went 1.7e-2, 1.3e-2, 2.8e-3,
+/// 4.8e-4, 1.2e-4, 7.1e-6 (0.015 of two before), 1.2e-6, 6.1e-9, 5.0e-10 and was kept (RMS
+/// −0.9 % against undoing it). The ratio sits between the two kinds, a factor ~3 from each.
 const PULL_BACK_CRAWL_AFTER: usize = 5;
 const PULL_BACK_CRAWL_ERR_RAD: f64 = 1e-6;
+const PULL_BACK_CRAWL_RATIO: f64 = 0.05;
 /// …and as soon as its trials have been refused this many times in all (each refusal is a
 /// factorisation): every restore that finished took one factorisation per iteration
 /// (fifteenth session, 40 kept pull-backs on caps and saddles), while the long pull-backs
@@ -146,13 +151,14 @@ pub(crate) struct Input<'a> {
 }
 
 /// The verdict on the pull-back `r` at the run's present state (`pos`, θ_err `err`, merit
-/// `f`, `iteration`; `area_goal` the area held; `refused`: its restoring trials were
-/// refused `PULL_BACK_REFUSALS` times): `None` while its restoring steps go on, then
-/// `Some(None)` to keep it or `Some(Some(reason))` to undo it.
+/// `f`, `iteration`; `err_two_back` θ_err two iterations before; `area_goal` the area held;
+/// `refused`: its restoring trials were refused `PULL_BACK_REFUSALS` times): `None` while
+/// its restoring steps go on, then `Some(None)` to keep it or `Some(Some(reason))` to undo
+/// it.
 pub(crate) fn verdict(
     r: &Restoring,
     input: &Input<'_>,
-    (pos, err, f, iteration): (&[[f64; 3]], f64, f64, usize),
+    (pos, err, err_two_back, f, iteration): (&[[f64; 3]], f64, f64, f64, usize),
     area_goal: Option<f64>,
     refused: bool,
 ) -> Option<Option<&'static str>> {
@@ -182,12 +188,20 @@ pub(crate) fn verdict(
             "θ = 2π was not restored within the restoring iterations",
         ))
     } else if (iteration >= r.at + PULL_BACK_SLOW_AFTER && f > PULL_BACK_SLOW_GAIN * r.pulled_merit)
-        || (iteration >= r.at + PULL_BACK_CRAWL_AFTER && err > PULL_BACK_CRAWL_ERR_RAD)
+        || crawling(iteration.saturating_sub(r.at), err, err_two_back)
     {
         Some(Some("its restoring steps were in the slow, linear regime"))
     } else {
         None
     }
+}
+
+/// Whether a restore `steps` iterations old, at θ_err `err` and `err_two_back` two
+/// iterations before, is crawling (`PULL_BACK_CRAWL_*`).
+fn crawling(steps: usize, err: f64, err_two_back: f64) -> bool {
+    steps >= PULL_BACK_CRAWL_AFTER
+        && err > PULL_BACK_CRAWL_ERR_RAD
+        && err > PULL_BACK_CRAWL_RATIO * err_two_back
 }
 
 /// The pull-back's unhalved move from `pos` (its interior `interior`): near the constraint
@@ -399,7 +413,7 @@ pub(crate) fn displacement2(anchor: &[[f64; 3]], interior: &[[f64; 3]]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{AreaRow, dot_fields};
+    use super::{AreaRow, PULL_BACK_CRAWL_AFTER, crawling, dot_fields};
     use crate::least_norm::Metric;
     use crate::piece::Piece;
     use flatcut_mesh::Topology;
@@ -556,5 +570,27 @@ mod tests {
         // A real move is left (measured: 34 % of ‖z‖²).
         let kept = dot_fields(&p, &p) / dot_fields(&z, &z);
         assert!(kept > 0.1, "kept {kept}");
+    }
+
+    /// The restores measured in the twenty-sixth session (θ_err after each restoring
+    /// iteration, the pull-back's own first): the two sweep caps' crawl and are undone at the
+    /// fifth iteration; the 37k-face thigh's speeds up and goes on to θ = 2π (kept, RMS
+    /// −0.9 %). `PULL_BACK_CRAWL_*`.
+    #[test]
+    fn crawling_restores_are_told_from_finishing_ones() {
+        let cap_6050 = [
+            5.1e-3, 2.3e-3, 4.9e-4, 1.2e-4, 7.3e-5, 1.8e-5, 1.4e-5, 1.3e-5, 3.8e-6, 9.4e-7,
+        ];
+        let cap_14450 = [
+            5.5e-3, 7.5e-4, 5.4e-5, 4.0e-5, 6.1e-5, 2.6e-5, 2.0e-5, 1.1e-5, 4.4e-6, 3.8e-6,
+        ];
+        let thigh = [
+            1.7e-2, 1.3e-2, 2.8e-3, 4.8e-4, 1.2e-4, 7.1e-6, 1.2e-6, 6.1e-9,
+        ];
+        // The first step at which a history is judged crawling, if any.
+        let first = |errs: &[f64]| (2..errs.len()).find(|&k| crawling(k, errs[k], errs[k - 2]));
+        assert_eq!(first(&cap_6050), Some(PULL_BACK_CRAWL_AFTER));
+        assert_eq!(first(&cap_14450), Some(PULL_BACK_CRAWL_AFTER));
+        assert_eq!(first(&thigh), None);
     }
 }
