@@ -7,6 +7,7 @@ use flatcut_mesh::geometry::{face_areas, is_degenerate_face};
 use flatcut_mesh::{FaceId, Topology, TriMesh, VertexId};
 use rayon::prelude::*;
 
+use crate::coarse_to_fine::Chain;
 use crate::piece::Piece;
 use crate::report::{PieceReport, ProcessReport};
 use crate::{
@@ -276,14 +277,30 @@ fn run_piece(
     let (local, map) = flatcut_mesh::submesh(mesh, faces);
     let topo = Topology::build(&local)?;
     let w_local: Vec<f64> = map.iter().map(|&g| weights[g as usize]).collect();
-    let piece =
+    let new_piece = |topo: Topology| {
         Piece::new(index, map, &local, topo, &w_local, opts.min_angle_deg).map_err(|e| {
             FlattenableError::Singular {
                 piece: index,
                 iteration: 0,
                 detail: format!("{e:?}"),
             }
-        })?;
+        })
+    };
+    // A piece whose first attempt is a hierarchy has its first coarse level made beside its
+    // own set-up (the symbolic factorisation and the rest of `Piece::new`), on the other core
+    // when that is free: the same levels, only sooner. A failed coarsening is left to the
+    // hierarchy to meet again, where it did before.
+    let robust_hierarchy =
+        opts.mode == Mode::Robust && coarse_to_fine::hierarchy_first(local.face_count(), opts);
+    let (piece, chain) = if robust_hierarchy {
+        let (piece, chain) = rayon::join(
+            || new_piece(topo.clone()),
+            || Chain::first(&local, &topo, opts),
+        );
+        (piece?, chain.unwrap_or_else(|_| Chain::new(opts)))
+    } else {
+        (new_piece(topo)?, Chain::new(opts))
+    };
     let mut report = PieceReport {
         piece: index,
         vertices: local.vertex_count(),
@@ -316,9 +333,9 @@ fn run_piece(
         report.messages.push(report.stop_reason.clone());
         local.positions.clone()
     } else {
-        let run_robust = |opts: &ProcessOptions, report: &mut PieceReport| {
+        let run_robust = |opts: &ProcessOptions, mut chain: Chain, report: &mut PieceReport| {
             if coarse_to_fine::applies(local.face_count(), opts) {
-                coarse_to_fine::run(&piece, &local, &w_local, opts, report)
+                coarse_to_fine::run((&piece, &local, &w_local), &mut chain, opts, report)
             } else {
                 Ok(robust::run(&piece, opts, report).positions)
             }
@@ -338,9 +355,10 @@ fn run_piece(
                     ..opts.clone()
                 };
                 let mut zero_report = report.clone();
+                let zero_chain = chain.clone();
                 let (detail, zero) = rayon::join(
-                    || run_robust(opts, &mut report),
-                    || run_robust(&zero_opts, &mut zero_report),
+                    || run_robust(opts, chain, &mut report),
+                    || run_robust(&zero_opts, zero_chain, &mut zero_report),
                 );
                 let detail = detail?;
                 let measured = |positions: &[[f64; 3]], run: &PieceReport| {
@@ -369,7 +387,7 @@ fn run_piece(
                     Err(_) => detail,
                 }
             }
-            Mode::Robust => run_robust(opts, &mut report)?,
+            Mode::Robust => run_robust(opts, chain, &mut report)?,
         }
     };
     piece.measure(&positions, &theta0, &mut report);
