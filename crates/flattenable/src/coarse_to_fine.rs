@@ -566,9 +566,10 @@ struct Seen {
     finished: Vec<(Vec<usize>, Prolongation, String)>,
 }
 
-/// One pass: the hierarchy `c2f` built, solved coarsest first, the fine level run from its
-/// prolongation into `report` (its message starts with `label`). Hierarchies in `seen` are
-/// not solved again; this one is added to it.
+/// One pass: the hierarchy `c2f` (its levels taken from `chain`, made there when missing),
+/// solved coarsest first, the fine level run from its prolongation into `report` (its
+/// message starts with `label`). Hierarchies in `seen` are not solved again; this one is
+/// added to it.
 #[allow(clippy::too_many_arguments)]
 fn pass(
     (piece, local, w_local): (&Piece, &TriMesh, &[f64]),
@@ -796,11 +797,8 @@ mod tests {
         });
         let n = mesh.vertex_count();
         let weights = vec![1.0; n];
-        let piece = |mesh| {
-            let topo = Topology::build(mesh).unwrap();
-            Piece::new(0, (0..n as u32).collect(), mesh, topo, &weights, 0.5).unwrap()
-        };
-        let piece = piece(&mesh);
+        let topo = Topology::build(&mesh).unwrap();
+        let piece = Piece::new(0, (0..n as u32).collect(), &mesh, topo, &weights, 0.5).unwrap();
         let opts = ProcessOptions::default();
         assert!(hierarchy_first(mesh.face_count(), &opts));
         let solve = |chain: &mut Chain, opts: &ProcessOptions| {
