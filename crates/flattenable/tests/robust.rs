@@ -543,40 +543,28 @@ fn least_square_detail_target_is_never_worse_than_the_papers() {
 #[test]
 #[ignore = "large: cargo test --release -- --ignored"]
 fn an_undone_pull_back_leaves_the_zero_targets_path_bit_for_bit() {
-    let mesh = common::bench_cap(92);
-    let run = |target| {
-        robust(
-            &mesh,
-            &ProcessOptions {
-                target,
-                ..Default::default()
-            },
-        )
-    };
-    let (detail, zero) = (run(Target::Detail), run(Target::Zero));
-    assert_flat_unfolded(&mesh, &detail);
-    let piece = &detail.report.pieces[0];
-    assert_eq!(piece.pull_backs, 1);
-    let undone = piece
-        .messages
-        .iter()
-        .filter(|m| m.starts_with("pull-back undone"));
-    assert_eq!(undone.count(), 1, "{:?}", piece.messages);
-    assert_eq!(detail.mesh.positions, zero.mesh.positions);
+    let undone = one_undone_pull_back(92);
     // The pull-back and at most three restoring iterations (slow or refused restores are
     // undone early; ten before).
-    let spent = piece.iterations - zero.report.pieces[0].iterations;
-    assert!((2..=4).contains(&spent), "{spent} more iterations");
+    assert!(
+        (2..=4).contains(&undone.spent),
+        "{} more iterations",
+        undone.spent
+    );
 }
 
-/// The bench's 56×56 cap (6 050 faces): its pull-back's restore passes the merit test of its
-/// first three iterations (θ_err 5.1e-3 → 1.2e-4) and then crawls (1.8e-5 after five, 8.7e-7
-/// after ten). Since the twenty-sixth session it is undone after five restoring iterations
-/// instead of ten; undone, the run ends on the zero target's positions bit for bit, having
-/// spent the pull-back and those five iterations on top.
-#[test]
-fn a_crawling_restore_is_undone_after_five_iterations() {
-    let mesh = common::bench_cap(56);
+/// What [`one_undone_pull_back`] found.
+struct UndonePullBack {
+    /// Why it was undone (its message).
+    message: String,
+    /// Iterations the detail target spent beyond the zero target's.
+    spent: usize,
+}
+
+/// The bench cap `n`×`n` with the detail and the zero target: one pull-back taken and undone,
+/// the detail target's result the zero target's bit for bit, flat and unfolded.
+fn one_undone_pull_back(n: usize) -> UndonePullBack {
+    let mesh = common::bench_cap(n);
     let run = |target| {
         robust(
             &mesh,
@@ -596,10 +584,27 @@ fn a_crawling_restore_is_undone_after_five_iterations() {
         .filter(|m| m.starts_with("pull-back undone"))
         .collect();
     assert_eq!(undone.len(), 1, "{:?}", piece.messages);
-    assert!(undone[0].contains("slow, linear regime"), "{}", undone[0]);
     assert_eq!(detail.mesh.positions, zero.mesh.positions);
-    let spent = piece.iterations - zero.report.pieces[0].iterations;
-    assert_eq!(spent, 6, "{:?}", piece.theta_err);
+    UndonePullBack {
+        message: undone[0].clone(),
+        spent: piece.iterations - zero.report.pieces[0].iterations,
+    }
+}
+
+/// The bench's 56×56 cap (6 050 faces): its pull-back's restore passes the merit test of its
+/// first three iterations (θ_err 5.1e-3 → 1.2e-4) and then crawls (1.8e-5 after five, 8.7e-7
+/// after ten). Since the twenty-sixth session it is undone after five restoring iterations
+/// instead of ten; undone, the run ends on the zero target's positions bit for bit, having
+/// spent the pull-back and those five iterations on top.
+#[test]
+fn a_crawling_restore_is_undone_after_five_iterations() {
+    let undone = one_undone_pull_back(56);
+    assert!(
+        undone.message.contains("slow, linear regime"),
+        "{}",
+        undone.message
+    );
+    assert_eq!(undone.spent, 6);
 }
 
 /// A piece that cannot become flat (a 120° cup, total defect 9.1 rad: it could only crumple)
