@@ -97,8 +97,12 @@ pub struct Chain {
 impl Chain {
     /// No level made yet; levels are made as hierarchies ask for them.
     pub fn new(opts: &ProcessOptions) -> Self {
+        Self::with_ratio(opts.coarse_to_fine.ratio)
+    }
+
+    fn with_ratio(ratio: f64) -> Self {
         Self {
-            ratio: opts.coarse_to_fine.ratio,
+            ratio,
             levels: Vec::new(),
             ended: false,
         }
@@ -164,7 +168,8 @@ pub fn run(
 ) -> Result<Vec<[f64; 3]>, FlattenableError> {
     let c2f = &opts.coarse_to_fine;
     let faces = local.face_count();
-    let direct_first = faces < c2f.min_faces || faces > c2f.max_faces;
+    // `run` is only called where the hierarchies apply.
+    let direct_first = !hierarchy_first(faces, opts);
     let mut attempts: Vec<Option<CoarseToFine>> = Vec::new();
     attempts.push((!direct_first).then(|| c2f.clone()));
     if c2f.rescue && faces > c2f.max_faces {
@@ -202,6 +207,10 @@ pub fn run(
         let mut t = vec![0.0; piece.layout.n()];
         piece.layout.theta(p, &mut t);
         Piece::errors(&t).1
+    };
+    // The shaped rescue hierarchy, tried after a hand-over or after the other attempts.
+    let shaped = |chain: &mut Chain, tally: &mut Tally, report: &mut PieceReport| {
+        shaped_rescue((piece, local, w_local), chain, opts, &merit, tally, report)
     };
     // The lowest θ_err any attempt reached.
     let mut nearest = f64::INFINITY;
@@ -316,14 +325,7 @@ pub fn run(
         // (docs/algorithms/flattenable.md, "A damping shaped like the graph Laplacian").
         if handed_over && shaped_allowed(opts) && !shaped_tried {
             shaped_tried = true;
-            if let Some(out) = shaped_rescue(
-                (piece, local, w_local),
-                chain,
-                opts,
-                &merit,
-                &mut tally,
-                report,
-            )? {
+            if let Some(out) = shaped(chain, &mut tally, report)? {
                 return Ok(out);
             }
         }
@@ -336,14 +338,7 @@ pub fn run(
     if !shaped_tried
         && shaped_allowed(opts)
         && nearest <= SHAPED_RESCUE_AT_RAD
-        && let Some(out) = shaped_rescue(
-            (piece, local, w_local),
-            chain,
-            opts,
-            &merit,
-            &mut tally,
-            report,
-        )?
+        && let Some(out) = shaped(chain, &mut tally, report)?
     {
         return Ok(out);
     }
@@ -580,17 +575,11 @@ fn pass(
     seen: &mut Seen,
     report: &mut PieceReport,
 ) -> Result<Pass, FlattenableError> {
-    // A hierarchy with another ratio than the run's (none is made so) builds its own levels.
-    let mut own = Chain {
-        ratio: c2f.ratio,
-        levels: Vec::new(),
-        ended: false,
-    };
-    let chain = if chain.ratio == c2f.ratio {
-        chain
-    } else {
-        &mut own
-    };
+    // The levels are those of one ratio: a hierarchy with another (none is made so) starts
+    // the chain again.
+    if chain.ratio != c2f.ratio {
+        *chain = Chain::with_ratio(c2f.ratio);
+    }
     // The levels below the piece this hierarchy takes: levels[k] maps level k (k = 0 the
     // piece) to level k + 1.
     let mut depth = 0;

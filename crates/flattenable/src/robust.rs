@@ -478,15 +478,15 @@ fn run_inner(
         // A pull-back under way: `None` while its restoring steps go on, then `Some(None)`
         // to keep it or `Some(Some(reason))` to undo it.
         let refused = std::mem::take(&mut restore_refused);
-        // θ_err two iterations ago (the history's last entry is `err`).
-        let err_two_back = report
-            .theta_err
-            .iter()
-            .rev()
-            .nth(2)
-            .copied()
-            .unwrap_or(f64::INFINITY);
         let decided = restoring.as_ref().and_then(|r| {
+            // θ_err two iterations ago (the history's last entry is `err`).
+            let err_two_back = report
+                .theta_err
+                .iter()
+                .rev()
+                .nth(2)
+                .copied()
+                .unwrap_or(f64::INFINITY);
             pull_back::verdict(
                 r,
                 &input,
