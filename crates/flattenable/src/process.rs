@@ -294,11 +294,16 @@ fn run_piece(
     let robust_hierarchy =
         opts.mode == Mode::Robust && coarse_to_fine::hierarchy_first(local.face_count(), opts);
     let (piece, chain) = if robust_hierarchy {
-        let (piece, chain) = rayon::join(
+        let (piece, chain) = beside(
             || new_piece(topo.clone()),
             || Chain::first(&local, &topo, opts),
         );
-        (piece?, chain.unwrap_or_else(|_| Chain::new(opts)))
+        (
+            piece?,
+            chain
+                .and_then(Result::ok)
+                .unwrap_or_else(|| Chain::new(opts)),
+        )
     } else {
         (new_piece(topo)?, Chain::new(opts))
     };
@@ -357,7 +362,7 @@ fn run_piece(
                 };
                 let mut zero_report = report.clone();
                 let zero_chain = chain.clone();
-                let (detail, zero) = rayon::join(
+                let (detail, zero) = beside(
                     || run_robust(opts, chain, &mut report),
                     || run_robust(&zero_opts, zero_chain, &mut zero_report),
                 );
@@ -368,7 +373,7 @@ fn run_piece(
                     m
                 };
                 match zero {
-                    Ok(zero) => {
+                    Some(Ok(zero)) => {
                         let (d, z) = (measured(&detail, &report), measured(&zero, &zero_report));
                         if at_least_as_good(&d, &z) {
                             detail
@@ -385,7 +390,7 @@ fn run_piece(
                             zero
                         }
                     }
-                    Err(_) => detail,
+                    Some(Err(_)) | None => detail,
                 }
             }
             Mode::Robust => run_robust(opts, chain, &mut report)?,
@@ -420,6 +425,25 @@ fn run_piece(
     }
     report.seconds = start.elapsed().as_secs_f64();
     Ok((positions, piece.vertex_map, report))
+}
+
+/// `a` on this thread and `b` at the same time on the thread pool, like `rayon::join`, and
+/// both results. Unlike `rayon::join`, called from outside the pool (a caller's own thread,
+/// which is where a single piece runs) it keeps `a` on this thread: `rayon::join` sends both
+/// halves to one worker, and the second worker, asleep, took `b` in one call of five at the
+/// 3.5k-face bench cap (0.4–1.5 ms late when it did), so the halves mostly ran one after the
+/// other (docs/algorithms/flattenable.md, "The set-up on the caller's thread, the first
+/// coarse level on the pool"). Called on a worker it behaves as `rayon::join`: the worker
+/// runs `b` itself when no other has taken it by the time `a` is done. The second result is
+/// always `Some` (the scope waits for `b`; a panic in `b` is passed on); it is an option
+/// only so that no caller needs an unwrap.
+fn beside<RA, RB: Send>(a: impl FnOnce() -> RA, b: impl FnOnce() -> RB + Send) -> (RA, Option<RB>) {
+    let mut rb = None;
+    let ra = rayon::in_place_scope(|s| {
+        s.spawn(|_| rb = Some(b()));
+        a()
+    });
+    (ra, rb)
 }
 
 /// Whether a measured result is at least as good as another for the detail target's bar:
@@ -515,5 +539,33 @@ fn summarise(
             })
             .collect(),
         pieces,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::beside;
+
+    /// From outside the pool (a test's own thread, as a caller's main thread) the first half
+    /// runs on the calling thread — `rayon::join` would send it to a worker, and this fails —
+    /// and on a worker of a one-thread pool, where nobody can take the second half, that
+    /// worker runs both: no deadlock, both results.
+    #[test]
+    fn beside_keeps_the_first_half_on_a_caller_outside_the_pool() {
+        let (a, b) = beside(rayon::current_thread_index, || 2 + 2);
+        assert_eq!(a, None);
+        assert_eq!(b, Some(4));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let (a, b) = pool.install(|| {
+            beside(
+                || (rayon::current_thread_index(), 1),
+                || (rayon::current_thread_index(), 2),
+            )
+        });
+        assert_eq!(a, (Some(0), 1));
+        assert_eq!(b, Some((Some(0), 2)));
     }
 }
