@@ -436,8 +436,13 @@ fn run_piece(
 /// coarse level on the pool"). Called on a worker it behaves as `rayon::join`: the worker
 /// runs `b` itself when no other has taken it by the time `a` is done. The second result is
 /// always `Some` (the scope waits for `b`; a panic in `b` is passed on); it is an option
-/// only so that no caller needs an unwrap.
+/// only so that no caller needs an unwrap. With a pool of one thread (`RAYON_NUM_THREADS=1`)
+/// the caller runs both, one after the other, so that no more than one thread works, as
+/// under `rayon::join`.
 fn beside<RA, RB: Send>(a: impl FnOnce() -> RA, b: impl FnOnce() -> RB + Send) -> (RA, Option<RB>) {
+    if rayon::current_num_threads() < 2 {
+        return (a(), Some(b()));
+    }
     let mut rb = None;
     let ra = rayon::in_place_scope(|s| {
         s.spawn(|_| rb = Some(b()));
