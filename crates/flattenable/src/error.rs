@@ -32,6 +32,17 @@ pub enum FlattenableError {
         "piece {piece}: the faces at edge {a}–{b} are inconsistently oriented; orient the mesh first"
     )]
     InconsistentOrientation { piece: usize, a: u32, b: u32 },
+    /// A piece is so large or so small that the solver's products of lengths leave the range
+    /// of f64 (`process`'s `EXTENT_RANGE`).
+    #[error(
+        "piece {piece} spans {extent:.3e} (its bounding-box diagonal), outside {min:.0e} to {max:.0e}, the extents whose squared and higher powers of lengths stay finite and normal in f64; rescale the mesh (to millimetres, say) before processing"
+    )]
+    ExtentOutOfRange {
+        piece: usize,
+        extent: f64,
+        min: f64,
+        max: f64,
+    },
     /// A face has zero area or a repeated vertex.
     #[error("piece {piece}: {face} is degenerate (zero area or repeated vertex); remove it first")]
     DegenerateFace { piece: usize, face: FaceId },

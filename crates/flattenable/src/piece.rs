@@ -178,7 +178,10 @@ impl Piece {
         theta.iter().fold((0.0f64, 0.0f64), |(m, s), &t| {
             let r = t - TAU;
             let q = beyond(r, dead_zone_rad);
-            (m.max(r.abs()), s + q * q)
+            // A NaN θ is infinitely far from 2π: `f64::max` would skip it, and a piece whose
+            // angles were all NaN would read as already flattenable.
+            let a = if r.is_nan() { f64::INFINITY } else { r.abs() };
+            (m.max(a), s + q * q)
         })
     }
 
@@ -327,6 +330,19 @@ pub fn beyond(r: f64, dead_zone_rad: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A NaN angle is infinitely far from 2π, wherever it stands (`f64::max` alone skips it,
+    /// so all-NaN angles read as θ_err 0); without NaN, the sums of the plain formula.
+    #[test]
+    fn a_nan_angle_counts_as_infinitely_far_from_two_pi() {
+        for theta in [vec![f64::NAN; 3], vec![TAU, f64::NAN, TAU + 1e-3]] {
+            let (err, merit) = Piece::errors(&theta);
+            assert_eq!(err, f64::INFINITY);
+            assert!(merit.is_nan());
+        }
+        let theta = [TAU - 0.25, TAU + 0.5, TAU];
+        assert_eq!(Piece::errors(&theta), (0.5, 0.25 * 0.25 + 0.5 * 0.5));
+    }
 
     /// The guard's block loop against the fold rule stated with the mesh crate's own
     /// normals and angles (acos of normalised vectors, not the guard's cosine comparison),

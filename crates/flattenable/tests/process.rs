@@ -168,6 +168,45 @@ fn bad_input_gives_named_errors() {
     assert!(r.report.pieces.is_empty());
 }
 
+/// Within the extents the solver works in (1e-50 to 1e50) a piece scaled by a power of two
+/// comes back scaled, bit for bit, up to the ends of the range; beyond them it is refused by
+/// name with its extent, where before a 2^300-wide cap ran on overflowed angles (θ_err π,
+/// "did not converge") and a 1e300-wide one read as already flattenable (NaN angles).
+#[test]
+fn pieces_beyond_the_solvers_range_are_refused_and_those_within_scale_bit_for_bit() {
+    let opts = ProcessOptions::default();
+    let cap = common::sphere_cap(8);
+    let base = process(&cap, &opts).unwrap().mesh;
+    let scaled = |mesh: &TriMesh, s: f64| {
+        let mut m = mesh.clone();
+        for p in &mut m.positions {
+            *p = p.map(|x| x * s);
+        }
+        m
+    };
+    // The cap's diagonal is 1.44: 2^±160 puts it at 2.1e48 and 9.9e-49.
+    for k in [-160, 160] {
+        let s = 2f64.powi(k);
+        let out = process(&scaled(&cap, s), &opts).unwrap().mesh;
+        assert_eq!(out.positions, scaled(&base, s).positions, "2^{k}");
+    }
+    for (k, shown) in [
+        (-200, "spans 8.981"),
+        (200, "spans 2.319"),
+        (1000, "spans 1.54"),
+    ] {
+        let e = process(&scaled(&cap, 2f64.powi(k)), &opts).unwrap_err();
+        assert!(
+            matches!(e, FlattenableError::ExtentOutOfRange { piece: 0, .. }),
+            "2^{k}: {e}"
+        );
+        assert!(e.to_string().contains(shown), "2^{k}: {e}");
+    }
+    // Coordinates of 1e300 (a square's diagonal beyond f64 when squared).
+    let e = process(&scaled(&cap, 1e300), &opts).unwrap_err();
+    assert!(e.to_string().contains("spans 1.44"), "{e}");
+}
+
 #[test]
 fn options_read_from_toml_like_json_with_documented_defaults() {
     let o: ProcessOptions =
