@@ -47,7 +47,9 @@ pub fn run(args: &CleanArgs) -> anyhow::Result<()> {
             args.weld_mm
         );
     }
-    refuse_overwrite(&args.input, &args.output)?;
+    let mut outputs = vec![("OUT", args.output.as_path())];
+    outputs.extend(args.report.as_deref().map(|r| ("--report", r)));
+    crate::util::refuse_overwrite(&[("IN", &args.input)], &outputs)?;
     let loaded =
         flatcut_io::read_mesh(&args.input, crate::util::units_for(&args.input, args.units))?;
     let opts = CleanOptions {
@@ -93,19 +95,4 @@ pub fn run(args: &CleanArgs) -> anyhow::Result<()> {
         outln!(o, "  faces dropped in all   {}", r.dropped_faces);
     }
     crate::util::emit(&o)
-}
-
-/// Inputs are never overwritten: refuse an output that is the input file itself.
-pub fn refuse_overwrite(input: &std::path::Path, output: &std::path::Path) -> anyhow::Result<()> {
-    let same = match (std::fs::canonicalize(input), std::fs::canonicalize(output)) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => input == output,
-    };
-    if same {
-        bail!(
-            "output {} is the input file; flatcut never overwrites its input: choose another output path",
-            output.display()
-        );
-    }
-    Ok(())
 }

@@ -72,6 +72,13 @@ fn scaled(p: [f64; 3], f: f64) -> [f64; 3] {
     [p[0] * f, p[1] * f, p[2] * f]
 }
 
+/// Where the seam ledger goes: `--seams`, else beside OUT.
+fn seams_path(args: &DartArgs, out: &std::path::Path) -> PathBuf {
+    args.seams
+        .clone()
+        .unwrap_or_else(|| out.with_extension("seams.json"))
+}
+
 /// Runs `flatcut dart`.
 pub fn run(args: &DartArgs) -> anyhow::Result<()> {
     if args.from.len() != args.tip.len() {
@@ -92,6 +99,12 @@ pub fn run(args: &DartArgs) -> anyhow::Result<()> {
     }
     if !(args.boundary_tolerance_mm.is_finite() && args.boundary_tolerance_mm >= 0.0) {
         bail!("--boundary-tolerance-mm must be a non-negative number");
+    }
+    if let Some(out) = &args.output {
+        let seams = seams_path(args, out);
+        let mut inputs = vec![("IN", args.input.as_path())];
+        inputs.extend(args.ledger.as_deref().map(|l| ("--ledger", l)));
+        crate::util::refuse_overwrite(&inputs, &[("OUT", out), ("--seams", &seams)])?;
     }
     let units = crate::util::units_for(&args.input, args.units);
     let f = units.factor_to_mm();
@@ -198,16 +211,7 @@ pub fn run(args: &DartArgs) -> anyhow::Result<()> {
                     .map_or("a new ledger".into(), |p| p.display().to_string())
             )
         })?;
-        let seams_path = args
-            .seams
-            .clone()
-            .unwrap_or_else(|| out.with_extension("seams.json"));
-        if args.ledger.as_deref() == Some(seams_path.as_path()) || seams_path == args.input {
-            bail!(
-                "the seam ledger would overwrite an input ({}); give --seams another path",
-                seams_path.display()
-            );
-        }
+        let seams_path = seams_path(args, out);
         let wopts = flatcut_io::WriteOptions {
             units: args.units,
             ..Default::default()

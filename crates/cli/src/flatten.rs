@@ -112,6 +112,9 @@ struct Metrics<'a> {
 
 /// Runs `flatcut flatten`.
 pub fn run(args: &FlattenArgs) -> anyhow::Result<()> {
+    let mut outputs = vec![("OUT", args.output.as_path())];
+    outputs.extend(args.metrics.as_deref().map(|m| ("--metrics", m)));
+    crate::util::refuse_overwrite(&[("IN", &args.input)], &outputs)?;
     let loaded =
         flatcut_io::read_mesh(&args.input, crate::util::units_for(&args.input, args.units))?;
     let mesh = &loaded.mesh;

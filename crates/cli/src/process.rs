@@ -242,6 +242,11 @@ fn text_report(r: &ProcessReport) -> String {
 
 /// Runs `flatcut process`.
 pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
+    let mut inputs = vec![("IN", args.input.as_path())];
+    inputs.extend(args.weights.as_deref().map(|w| ("--weights", w)));
+    let mut outputs = vec![("OUT", args.output.as_path())];
+    outputs.extend(args.report.as_deref().map(|r| ("--report", r)));
+    crate::util::refuse_overwrite(&inputs, &outputs)?;
     let loaded =
         flatcut_io::read_mesh(&args.input, crate::util::units_for(&args.input, args.units))
             .with_context(|| format!("cannot read {}", args.input.display()))?;

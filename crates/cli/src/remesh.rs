@@ -77,7 +77,9 @@ pub fn run(args: &RemeshArgs) -> anyhow::Result<()> {
     if args.edge_mm.is_none() && args.decimate_to.is_none() {
         bail!("give --edge-mm (remesh to that edge length) and/or --decimate-to (face budget)");
     }
-    crate::clean::refuse_overwrite(&args.input, &args.output)?;
+    let mut outputs = vec![("OUT", args.output.as_path())];
+    outputs.extend(args.report.as_deref().map(|r| ("--report", r)));
+    crate::util::refuse_overwrite(&[("IN", &args.input)], &outputs)?;
     let loaded =
         flatcut_io::read_mesh(&args.input, crate::util::units_for(&args.input, args.units))?;
     let input = &loaded.mesh;

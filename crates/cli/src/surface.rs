@@ -61,6 +61,9 @@ fn read_wire(path: &std::path::Path) -> anyhow::Result<WireFrame> {
 
 /// Runs `flatcut surface`.
 pub fn run(args: &SurfaceArgs) -> anyhow::Result<()> {
+    let mut outputs = vec![("OUT", args.output.as_path())];
+    outputs.extend(args.report.as_deref().map(|r| ("--report", r)));
+    crate::util::refuse_overwrite(&[("WIRE", &args.wire)], &outputs)?;
     let input = args.wire.display().to_string();
     let wire = read_wire(&args.wire)?;
     let units: Units = wire

@@ -79,6 +79,22 @@ pub fn run(args: &TrimArgs) -> anyhow::Result<()> {
     for p in &cuts.pieces {
         check_piece_name(&p.name, &args.cuts)?;
     }
+    let files: Vec<(String, PathBuf)> = cuts
+        .pieces
+        .iter()
+        .map(|p| {
+            (
+                format!("piece {:?}", p.name),
+                args.out.join(format!("{}.obj", p.name)),
+            )
+        })
+        .chain(["seams.json", "trim_report.json"].map(|f| (f.to_string(), args.out.join(f))))
+        .collect();
+    let outputs: Vec<(&str, &Path)> = files
+        .iter()
+        .map(|(w, p)| (w.as_str(), p.as_path()))
+        .collect();
+    crate::util::refuse_overwrite(&[("IN", &args.input), ("CUTS", &args.cuts)], &outputs)?;
     let loaded = flatcut_io::read_mesh(&args.input, units)?;
     cuts.scale(units.factor_to_mm());
     let t = trim(&loaded.mesh, &cuts).with_context(|| {

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::flatcut;
+use common::{flatcut, refused};
 
 use std::path::Path;
 
@@ -229,4 +229,41 @@ fn darts_join_an_existing_ledger() {
         .output()
         .unwrap();
     assert_eq!(r.status.code(), Some(1));
+}
+
+/// The seam ledger written over the ledger read (`--seams` = `--ledger`), or the darted piece
+/// over its input: refused before anything is read or written.
+#[test]
+fn dart_refuses_to_overwrite_its_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("bump.obj");
+    write(&input, &bump(), Units::Mm);
+    let before = std::fs::read(&input).unwrap();
+    let ledger = dir.path().join("ledger.json");
+    let out = dir.path().join("out.obj");
+    let err = refused([
+        "dart".as_ref(),
+        input.as_os_str(),
+        out.as_os_str(),
+        "--suggest".as_ref(),
+        "1".as_ref(),
+        "--ledger".as_ref(),
+        ledger.as_os_str(),
+        "--seams".as_ref(),
+        ledger.as_os_str(),
+    ]);
+    assert!(
+        err.contains("--seams") && err.contains("is the input --ledger"),
+        "{err}"
+    );
+    let err = refused([
+        "dart".as_ref(),
+        input.as_os_str(),
+        input.as_os_str(),
+        "--suggest".as_ref(),
+        "1".as_ref(),
+    ]);
+    assert!(err.contains("is the input IN"), "{err}");
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    assert!(!out.exists());
 }

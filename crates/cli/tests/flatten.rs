@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{flatcut, succeed, succeed_json};
+use common::{flatcut, refused, succeed, succeed_json};
 
 use std::path::Path;
 
@@ -219,4 +219,30 @@ fn refuses_a_closed_piece_and_bad_arguments() {
             .unwrap();
         assert_eq!(out.status.code(), Some(2), "{bad:?}");
     }
+}
+
+/// OUT or --metrics naming the input (here as `dir/./in.obj`) is refused, the input untouched.
+#[test]
+fn flatten_refuses_to_overwrite_its_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.obj");
+    let (text, _, _) = cylinder_obj(6, 4);
+    std::fs::write(&input, &text).unwrap();
+    let dotted = dir.path().join(".").join("in.obj");
+    let err = refused(["flatten".as_ref(), input.as_os_str(), dotted.as_os_str()]);
+    assert!(
+        err.contains("OUT") && err.contains("is the input IN"),
+        "{err}"
+    );
+    let out = dir.path().join("out.obj");
+    let err = refused([
+        "flatten".as_ref(),
+        input.as_os_str(),
+        out.as_os_str(),
+        "--metrics".as_ref(),
+        input.as_os_str(),
+    ]);
+    assert!(err.contains("--metrics"), "{err}");
+    assert_eq!(std::fs::read_to_string(&input).unwrap(), text);
+    assert!(!out.exists());
 }

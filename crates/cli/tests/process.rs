@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::flatcut;
+use common::{flatcut, refused};
 
 use std::path::Path;
 
@@ -308,4 +308,56 @@ fn damping_flag_chooses_the_damping_shape() {
         "{stderr}"
     );
     assert!(!dir.path().join("bad.obj").exists());
+}
+
+/// Inputs are never overwritten and one output never overwrites another, however the path is
+/// spelt (`dir/./x`, a symbolic link): each is refused before anything is read or written.
+#[test]
+fn process_refuses_to_overwrite_an_input_or_another_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = cap_obj(6);
+    std::fs::write(d.join("cap.obj"), &text).unwrap();
+    std::fs::write(d.join("w.txt"), "1\n".repeat(36)).unwrap();
+    std::os::unix::fs::symlink(d.join("cap.obj"), d.join("link.obj")).unwrap();
+    let p = |name: &str| d.join(name).into_os_string();
+    let dotted = |name: &str| d.join(".").join(name).into_os_string();
+    let cases: [(Vec<std::ffi::OsString>, &str); 5] = [
+        (vec![p("cap.obj"), dotted("cap.obj")], "is the input IN"),
+        (vec![p("cap.obj"), p("link.obj")], "is the input IN"),
+        (
+            vec![p("cap.obj"), p("out.obj"), "--report".into(), p("cap.obj")],
+            "--report",
+        ),
+        (
+            vec![
+                p("cap.obj"),
+                p("out.obj"),
+                "--report".into(),
+                dotted("out.obj"),
+            ],
+            "--report and OUT are both",
+        ),
+        (
+            vec![
+                p("cap.obj"),
+                p("out.obj"),
+                "--weights".into(),
+                p("w.txt"),
+                "--report".into(),
+                p("w.txt"),
+            ],
+            "is the input --weights",
+        ),
+    ];
+    for (args, said) in cases {
+        let err = refused(std::iter::once("process".into()).chain(args));
+        assert!(err.contains(said), "{err}");
+    }
+    assert_eq!(std::fs::read_to_string(d.join("cap.obj")).unwrap(), text);
+    assert_eq!(
+        std::fs::read_to_string(d.join("w.txt")).unwrap(),
+        "1\n".repeat(36)
+    );
+    assert!(!d.join("out.obj").exists());
 }

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{flatcut, succeed_json};
+use common::{flatcut, refused, succeed_json};
 
 use flatcut_mesh::{SeamLedger, geometry, shapes};
 
@@ -137,4 +137,33 @@ fn trim_refuses_bad_cut_files_with_their_place() {
     // A piece name that is no file name.
     let err = run(&CUTS.replace("name = \"south\"", "name = \"../south\""));
     assert!(err.contains("../south"), "{err}");
+}
+
+/// A piece named like the input mesh in the output folder would overwrite it: refused before
+/// anything is written, the input untouched.
+#[test]
+fn trim_refuses_to_write_a_piece_over_its_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let sphere = sphere_file(dir.path());
+    let input = out_dir.join("south.obj");
+    std::fs::rename(&sphere, &input).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let cuts = dir.path().join("cuts.toml");
+    std::fs::write(&cuts, CUTS).unwrap();
+    let err = refused([
+        "trim".as_ref(),
+        input.as_os_str(),
+        "--cuts".as_ref(),
+        cuts.as_os_str(),
+        "--out".as_ref(),
+        out_dir.as_os_str(),
+    ]);
+    assert!(
+        err.contains("piece \"south\"") && err.contains("is the input IN"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    assert!(!out_dir.join("seams.json").exists());
 }

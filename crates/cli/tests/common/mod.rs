@@ -23,3 +23,16 @@ pub fn succeed(cmd: &mut Command) -> Output {
 pub fn succeed_json(cmd: &mut Command) -> serde_json::Value {
     serde_json::from_slice(&succeed(cmd).stdout).unwrap()
 }
+
+/// Runs `flatcut` with `args`, which must fail with exit code 1 (else the test fails); its
+/// standard error.
+pub fn refused<I, S>(args: I) -> String
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    let out = flatcut().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    err
+}
