@@ -86,8 +86,28 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("flatcut: error: {err:#}");
+            eprintln!("flatcut: error: {}", message(&err));
             ExitCode::from(1)
         }
     }
+}
+
+/// The error and its causes, `: `-separated as anyhow's `{:#}` prints them, but without a cause
+/// whose text the message already holds: the libraries' errors put their source's text in
+/// their own (so that they read whole wherever they are shown), and the chain would repeat it
+/// ("cannot write out.obj: out.obj: No such file or directory (os error 2): No such file or
+/// directory (os error 2)").
+fn message(err: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in err.chain() {
+        let part = cause.to_string();
+        if text.contains(&part) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&part);
+    }
+    text
 }

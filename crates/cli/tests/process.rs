@@ -361,3 +361,16 @@ fn process_refuses_to_overwrite_an_input_or_another_output() {
     );
     assert!(!d.join("out.obj").exists());
 }
+
+/// An output into a folder that does not exist names the file and the system's reason, once
+/// (the chain of causes repeated it).
+#[test]
+fn an_unwritable_output_names_its_reason_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cap.obj");
+    std::fs::write(&input, cap_obj(6)).unwrap();
+    let out = dir.path().join("missing").join("out.obj");
+    let err = refused(["process".as_ref(), input.as_os_str(), out.as_os_str()]);
+    assert!(err.contains("cannot write"), "{err}");
+    assert_eq!(err.matches("(os error 2)").count(), 1, "{err}");
+}
