@@ -315,6 +315,11 @@ const LARGE_TOTAL_DEFECT_RAD: f64 = std::f64::consts::PI;
 /// spikes (+4 to +11 rad on the scan's legs, +0.34 on the clean body's thigh), so the
 /// cup/saddle reading of it would mislead.
 const ROUGH_MEDIAN_DEFECT_RAD: f64 = 0.1;
+/// …over at least this many interior vertices: over a handful the median is the shape's own
+/// curvature, not noise (a cone's one interior vertex, a coarse cup's dozen: their defects are
+/// large because their vertices are few), and the Gauss–Bonnet hints apply. The rough pieces
+/// measured have thousands.
+const ROUGH_MIN_INTERIOR: usize = 30;
 
 type PieceOutcome = (Vec<[f64; 3]>, Vec<u32>, PieceReport);
 
@@ -450,7 +455,8 @@ fn run_piece(
         }
     };
     piece.measure(&positions, &theta0, &mut report);
-    let roughness = (!report.converged).then(|| median_abs_defect(&theta0));
+    let roughness = (!report.converged && theta0.len() >= ROUGH_MIN_INTERIOR)
+        .then(|| median_abs_defect(&theta0));
     if let Some(median) = roughness.filter(|&m| m > ROUGH_MEDIAN_DEFECT_RAD) {
         let hint = format!(
             "the surface is rough: the median |2π − θ| of its interior vertices is {median:.3} rad (smooth surfaces at a working resolution: below 0.05), i.e. scan noise, and its total angle defect ({:.3} rad) is mostly the noise's; smooth the scan or remesh it coarser before processing",

@@ -219,8 +219,9 @@ fn options_read_from_toml_like_json_with_documented_defaults() {
 
 /// A piece that stops unconverged names its cause by its input: a rough one (median
 /// |2π − θ| above 0.1 rad: scan noise) is told to smooth the scan, and the Gauss–Bonnet
-/// reading of its total defect is left out; a smooth one keeps that reading. Both are cut off
-/// by the iteration limit so that they stop.
+/// reading of its total defect is left out; a smooth one keeps that reading, and so does a
+/// coarse cup of nine interior vertices, whose large defects are its curvature over few
+/// vertices, not noise. All are cut off by the iteration limit so that they stop.
 #[test]
 fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
     use flatcut_flattenable::FlattenableError;
@@ -259,6 +260,14 @@ fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
     assert!(
         s.iter().any(|m| m.contains("negative total angle defect")),
         "{s:?}"
+    );
+    // 5×5 vertices, slopes up to 3 at the rim: total defect ~4 rad, median ~0.5 rad.
+    let cup = common::grid(5, 0.5, |x, y| 3.0 * (x * x + y * y));
+    let c = messages(&cup);
+    assert!(!c.iter().any(|m| m.contains("rough")), "{c:?}");
+    assert!(
+        c.iter().any(|m| m.contains("total angle defect of")),
+        "{c:?}"
     );
 }
 
