@@ -209,6 +209,22 @@ fn output_folder_rules() {
         std::fs::read(clash.join("processed.glb")).unwrap(),
         input_bytes
     );
+
+    // Nor is an input removed as a file an earlier run wrote and this one does not: a run
+    // reading piece "a" of an earlier run (its folder's pieces/a.obj), whose own piece has
+    // another name, deleted it.
+    let again = tmp.path().join("again");
+    let with_a = format!("{GOOD}\n[[piece]]\nname = \"a\"\nseed = [0, 0, 200]\n");
+    run_in(&with_a, tmp.path(), &again, false).unwrap();
+    let piece = again.join("pieces").join("a.obj");
+    let piece_bytes = std::fs::read(&piece).unwrap();
+    let text = "schema = 1\nname = \"t\"\nunits = \"mm\"\n[input]\nmesh = \"again/pieces/a.obj\"\n";
+    for force in [false, true] {
+        let e = run_in(text, tmp.path(), &again, force).unwrap_err();
+        assert!(matches!(e, PipelineError::WouldRemoveInput { .. }), "{e}");
+        assert!(e.to_string().contains("a.obj"), "{e}");
+        assert_eq!(std::fs::read(&piece).unwrap(), piece_bytes);
+    }
 }
 
 /// `GOOD` with one piece "a" at the pole and `line` as its fourth line (line 10).

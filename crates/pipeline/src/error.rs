@@ -140,6 +140,16 @@ pub enum PipelineError {
         /// The output file that is also an input.
         path: PathBuf,
     },
+    /// An input is a file an earlier run wrote in the output folder and this run does not
+    /// write, which the run would remove as stale.
+    #[error(
+        "{} is an input of the pipeline and a file an earlier run left in the output folder, which this run would remove; inputs are never removed: move it out of the folder or choose another output folder",
+        path.display()
+    )]
+    WouldRemoveInput {
+        /// The earlier run's file that is also an input.
+        path: PathBuf,
+    },
     /// Writing the output folder failed.
     #[error("cannot write {}: {source}", path.display())]
     Write {

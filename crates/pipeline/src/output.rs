@@ -3,7 +3,8 @@
 //!
 //! Rules: a path that is a file is refused; a folder written by another pipeline (its marker
 //! names another pipeline) or a non-empty folder flatcut did not write is refused unless
-//! forced; an output file never replaces an input. Every file is written atomically (a
+//! forced; an output file never replaces an input, and no input is removed as a file of an
+//! earlier run. Every file is written atomically (a
 //! temporary file beside it, then a rename); the previous report.json is removed first and the
 //! new one written last, so a folder with a report.json is a finished run. Files a previous
 //! run of the same pipeline wrote and this one does not are removed.
@@ -91,6 +92,19 @@ pub fn check(
                 && inputs.contains(&c)
             {
                 return Err(PipelineError::WouldOverwriteInput { path });
+            }
+        }
+        // Files an earlier run wrote and this one does not are removed by `write`: never an
+        // input (a run reading an earlier run's piece from the folder deleted it).
+        for stale in previous_files(dir)
+            .into_iter()
+            .filter(|f| is_plain_relative(f) && !outputs.contains(f))
+        {
+            let path = dir.join(&stale);
+            if let Ok(c) = std::fs::canonicalize(&path)
+                && inputs.contains(&c)
+            {
+                return Err(PipelineError::WouldRemoveInput { path });
             }
         }
     }
