@@ -209,3 +209,28 @@ fn smooth_iterations_flattens_a_noisy_sheet() {
     assert!(smooth_off > 0.1, "{smooth_off}");
     assert!(smooth_rms < 0.6 * plain_rms, "{plain_rms} → {smooth_rms}");
 }
+
+/// A report over the input is refused before anything is read or written.
+#[test]
+fn remesh_refuses_a_report_over_its_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.obj");
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(&input, text).unwrap();
+    let out = flatcut()
+        .args(["remesh", "--edge-mm", "0.3"])
+        .arg(&input)
+        .arg(dir.path().join("o.obj"))
+        .arg("--report")
+        .arg(&input)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--report") && err.contains("is the input IN"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&input).unwrap(), text);
+    assert!(!dir.path().join("o.obj").exists());
+}

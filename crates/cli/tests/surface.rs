@@ -241,3 +241,17 @@ fn bad_wireframes_are_refused_with_their_place() {
         &["'sq' point 1"],
     );
 }
+
+/// OUT naming the wire-frame file (as `dir/./x`) is refused and the wire-frame kept.
+#[test]
+fn surface_refuses_to_write_over_its_wire_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let wire = dir.path().join("wire.toml");
+    std::fs::copy(fixture("seat.toml"), &wire).unwrap();
+    let before = std::fs::read(&wire).unwrap();
+    let out = run(&[&wire, &dir.path().join(".").join("wire.toml")]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("is the input WIRE"), "{err}");
+    assert_eq!(std::fs::read(&wire).unwrap(), before);
+}
