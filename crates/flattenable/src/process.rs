@@ -233,39 +233,17 @@ fn check_extents(
     face_components: &[u32],
     pieces: usize,
 ) -> Result<(), FlattenableError> {
-    let mut boxes = vec![([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]); pieces];
-    for (face, &c) in mesh.faces.iter().zip(face_components) {
-        let (lo, hi) = &mut boxes[c as usize];
-        for &v in face {
-            let p = mesh.positions[v as usize];
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-    }
     let (min, max) = EXTENT_RANGE;
-    for (piece, (lo, hi)) in boxes.iter().enumerate() {
-        // The diagonal scaled by its largest side, so that the message gives the extent even
-        // where its square would overflow or underflow (hi − lo of coordinates near
-        // ±f64::MAX is infinite: out of range too).
-        let side = flatcut_mesh::vec3::sub(*hi, *lo);
-        let largest = side[0].max(side[1]).max(side[2]);
-        let extent = if largest > 0.0 && largest.is_finite() {
-            largest * flatcut_mesh::vec3::norm(side.map(|x| x / largest))
-        } else {
-            largest
-        };
-        if !(min..=max).contains(&extent) {
-            return Err(FlattenableError::ExtentOutOfRange {
-                piece,
-                extent,
-                min,
-                max,
-            });
-        }
+    let extents = flatcut_mesh::geometry::component_extents(mesh, face_components, pieces);
+    match extents.iter().position(|e| !(min..=max).contains(e)) {
+        Some(piece) => Err(FlattenableError::ExtentOutOfRange {
+            piece,
+            extent: extents[piece],
+            min,
+            max,
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// w per input vertex: caller's weight × boundary-ring weight × feature weight.

@@ -21,6 +21,17 @@ pub enum LscmError {
         faces: usize,
         first_face: FaceId,
     },
+    /// A component is so large or so small that the flattening's products of lengths leave
+    /// the range of f64 (`piece::EXTENT_RANGE`).
+    #[error(
+        "component {component} spans {extent:.3e} (its bounding-box diagonal), outside {min:.0e} to {max:.0e}, the extents whose powers of lengths stay finite and normal in f64; rescale the mesh (to millimetres, say) before flattening"
+    )]
+    ExtentOutOfRange {
+        component: usize,
+        extent: f64,
+        min: f64,
+        max: f64,
+    },
     /// A vertex joins faces that do not form one fan (a bowtie): its fans would rotate
     /// freely around it.
     #[error("{vertex} is non-manifold (its faces form several fans); run `flatcut clean` first")]

@@ -1,7 +1,7 @@
 //! Splitting a mesh into the pieces that are flattened independently (its connected
 //! components), after checking that each one can be flattened at all.
 
-use flatcut_mesh::geometry::is_degenerate_face;
+use flatcut_mesh::geometry::{component_extents, is_degenerate_face};
 use flatcut_mesh::{FaceId, INVALID, Topology, TriMesh, VertexId};
 
 use crate::LscmError;
@@ -24,6 +24,15 @@ pub struct Piece {
     /// Boundary loops in local vertex indices, in face orientation (at least one).
     pub boundary_loops: Vec<Vec<u32>>,
 }
+
+/// The extents (bounding-box diagonals, mm) a component may have. Measured on a 37-vertex
+/// disk 2.85 wide (`flatcut flatten`, LSCM then ARAP): scaled by a power of two it gives its
+/// pattern scaled, bit for bit, from 2^-166 to 2^170 (extents 3e-50 to 4e51); at 2^175 and 2^-180 the
+/// ARAP Laplacian overflowed or underflowed (the error said only that a matrix value was not
+/// finite), at 2^±300 LSCM's matrix lost definiteness or its faces read as degenerate. It
+/// forms up to sixth powers of lengths, and a fine piece's edges are far shorter than its
+/// extent, so the bounds sit ~1e20 inside the measured ones. Real pieces span 1e-1 to 1e5 mm.
+pub const EXTENT_RANGE: (f64, f64) = (1e-30, 1e30);
 
 /// Checks that every component of `mesh` is flattenable in principle (faces present,
 /// edge- and vertex-manifold, consistently oriented, no degenerate face, a boundary in every
@@ -48,6 +57,16 @@ pub fn split_pieces(mesh: &TriMesh, topo: &Topology) -> Result<Vec<Piece>, LscmE
         return Err(LscmError::InconsistentOrientation {
             a: VertexId(e[0]),
             b: VertexId(e[1]),
+        });
+    }
+    let (min, max) = EXTENT_RANGE;
+    let extents = component_extents(mesh, topo.face_components(), topo.component_count());
+    if let Some(component) = extents.iter().position(|e| !(min..=max).contains(e)) {
+        return Err(LscmError::ExtentOutOfRange {
+            component,
+            extent: extents[component],
+            min,
+            max,
         });
     }
     let diagonal = mesh.diagonal();

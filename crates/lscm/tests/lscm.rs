@@ -6,7 +6,8 @@
 mod common;
 
 use flatcut_lscm::{
-    LscmError, LscmOptions, Pins, conformal_energy, distortion, lscm, split_pieces,
+    FlattenOptions, LscmError, LscmOptions, Pins, conformal_energy, distortion, flatten, lscm,
+    split_pieces,
 };
 use flatcut_mesh::vec3::{cross, dot, norm, sub};
 use flatcut_mesh::{Topology, TriMesh, VertexId};
@@ -286,6 +287,43 @@ fn bad_input_is_refused_with_a_named_error() {
             vertex: VertexId(10_000)
         }
     );
+}
+
+/// Within `EXTENT_RANGE` (1e-30 to 1e30) a piece scaled by a power of two flattens (LSCM, ARAP,
+/// placement) to its pattern scaled, bit for bit, near both ends; beyond it, it is refused by
+/// name with its extent, where a 2^175-wide disk failed with "a matrix value is not finite"
+/// and a 1e300-wide one with a Cholesky pivot.
+#[test]
+fn pieces_beyond_the_flattenings_range_are_refused_and_those_within_scale_bit_for_bit() {
+    let mesh = common::cone(8, 5);
+    let opts = FlattenOptions::default();
+    let base = flatten(&mesh, &opts).unwrap().flattening.uv;
+    let scaled = |s: f64| {
+        let mut m = mesh.clone();
+        for p in &mut m.positions {
+            *p = p.map(|x| x * s);
+        }
+        m
+    };
+    let extent = mesh.diagonal();
+    for k in [-105, 88] {
+        let s = 2f64.powi(k);
+        assert!((1e-30..=1e30).contains(&(extent * s)), "2^{k}");
+        let uv = flatten(&scaled(s), &opts).unwrap().flattening.uv;
+        let expected: Vec<[f64; 2]> = base.iter().map(|q| q.map(|x| x * s)).collect();
+        assert_eq!(uv, expected, "2^{k}");
+    }
+    for s in [2f64.powi(-115), 2f64.powi(110), 1e300] {
+        let err = flatten(&scaled(s), &opts).unwrap_err();
+        assert!(
+            matches!(err, LscmError::ExtentOutOfRange { component: 0, .. }),
+            "{s:e}: {err}"
+        );
+        assert!(
+            err.to_string().contains(&format!("{:.3e}", extent * s)),
+            "{err}"
+        );
+    }
 }
 
 #[test]

@@ -207,6 +207,40 @@ pub fn cotan_weights(positions: &[[f64; 3]], faces: &[[u32; 3]], topo: &Topology
 /// real resolution (≥ 1e-6 of the part size) stays well above it.
 pub const DEGENERATE_AREA_RELATIVE: f64 = 1e-10;
 
+/// The bounding-box diagonal of each of `components` groups of faces (`face_components[f]`
+/// the group of face f, as [`Topology::face_components`] gives them), computed by its longest
+/// side first so that it is exact where the square of a diagonal would overflow or
+/// underflow (a 1e300-wide piece gives 1.4e300, not infinity). A group without faces gives
+/// 0; sides that overflow (coordinates near ±f64::MAX) give infinity.
+pub fn component_extents(mesh: &TriMesh, face_components: &[u32], components: usize) -> Vec<f64> {
+    let mut boxes = vec![([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]); components];
+    for (face, &c) in mesh.faces.iter().zip(face_components) {
+        let (lo, hi) = &mut boxes[c as usize];
+        for &v in face {
+            let p = mesh.positions[v as usize];
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    boxes
+        .iter()
+        .map(|(lo, hi)| {
+            if lo[0] > hi[0] {
+                return 0.0;
+            }
+            let side = sub(*hi, *lo);
+            let longest = side[0].max(side[1]).max(side[2]);
+            if longest > 0.0 && longest.is_finite() {
+                longest * norm(side.map(|x| x / longest))
+            } else {
+                longest
+            }
+        })
+        .collect()
+}
+
 /// Is a face degenerate: a repeated vertex index, or an area ≤ (ε · `diagonal`)² with
 /// ε = [`DEGENERATE_AREA_RELATIVE`] (`diagonal` is the mesh's bounding-box diagonal)?
 pub fn is_degenerate_face(face: [u32; 3], corners: [[f64; 3]; 3], diagonal: f64) -> bool {

@@ -355,3 +355,23 @@ fn area_gradient_matches_central_differences() {
     let sum = g.iter().fold([0.0; 3], |s, v| add(s, *v));
     assert!(norm(sum) < 1e-12, "{sum:?}");
 }
+
+/// Each component's bounding-box diagonal, with no overflow or underflow where its square
+/// would leave f64: unit squares at scales 1, 1e300 and 1e-300 give √2 times the scale (the
+/// naive formula gives infinity and 0 for the last two), and a group without faces gives 0.
+#[test]
+fn component_extents_are_diagonals_without_overflow() {
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for (k, s) in [1.0, 1e300, 1e-300].into_iter().enumerate() {
+        let o = 4 * k as u32;
+        positions.extend([[0.0, 0.0, 0.0], [s, 0.0, 0.0], [s, s, 0.0], [0.0, s, 0.0]]);
+        faces.extend([[o, o + 1, o + 2], [o, o + 2, o + 3]]);
+    }
+    let mesh = TriMesh::new(positions, faces).unwrap();
+    let extents = component_extents(&mesh, &[0, 0, 1, 1, 2, 2], 4);
+    let root2 = 2f64.sqrt();
+    assert_eq!(extents, vec![root2, 1e300 * root2, 1e-300 * root2, 0.0]);
+    let naive = |s: f64| (s * s + s * s).sqrt();
+    assert_eq!((naive(1e300), naive(1e-300)), (f64::INFINITY, 0.0));
+}
