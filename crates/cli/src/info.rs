@@ -25,6 +25,21 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     let mesh = &loaded.mesh;
     let topo = Topology::build(mesh).with_context(|| format!("{}", args.mesh.display()))?;
     let info = mesh_info(mesh, &topo);
+    let mut warnings = loaded.source.warnings.clone();
+    // Beyond the range in which the flattening computes angles and areas, the defects below
+    // are overflowed or underflowed numbers, not the surface's.
+    let (min, max) = flatcut_lscm::piece::EXTENT_RANGE;
+    let extents =
+        flatcut_mesh::geometry::component_extents(mesh, topo.face_components(), info.components);
+    if let Some((c, e)) = extents
+        .iter()
+        .enumerate()
+        .find(|(_, e)| !(min..=max).contains(*e))
+    {
+        warnings.push(format!(
+            "component {c} spans {e:.3e} mm, outside {min:.0e} to {max:.0e}, where flatcut computes angles and areas in f64: its angle defects are not meaningful and `flatcut flatten` refuses it; rescale the mesh"
+        ));
+    }
     let mut o = String::new();
     if args.json {
         let mut value = serde_json::to_value(&info)?;
@@ -36,12 +51,12 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
                     .to_lowercase()
                     .into(),
             );
-            obj.insert("warnings".into(), loaded.source.warnings.clone().into());
+            obj.insert("warnings".into(), warnings.clone().into());
         }
         outln!(o, "{}", serde_json::to_string_pretty(&value)?);
         return crate::util::emit(&o);
     }
-    let p = |v: [f64; 3]| format!("({:.3}, {:.3}, {:.3})", v[0], v[1], v[2]);
+    let p = |v: [f64; 3]| format!("({}, {}, {})", mm(v[0]), mm(v[1]), mm(v[2]));
     outln!(o, "file                 {}", args.mesh.display());
     outln!(
         o,
@@ -77,10 +92,29 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     outln!(o, "bbox min (mm)        {}", p(info.bbox_min));
     outln!(o, "bbox max (mm)        {}", p(info.bbox_max));
     outln!(o, "interior vertices    {}", info.interior_vertices);
-    outln!(o, "angle defect max     {:.6e} rad", info.max_angle_defect);
-    outln!(o, "angle defect mean    {:.6e} rad", info.mean_angle_defect);
-    for w in &loaded.source.warnings {
+    outln!(o, "angle defect max     {}", rad(info.max_angle_defect));
+    outln!(o, "angle defect mean    {}", rad(info.mean_angle_defect));
+    for w in &warnings {
         outln!(o, "warning: {w}");
     }
     crate::util::emit(&o)
+}
+
+/// A coordinate in mm: three decimals at ordinary sizes, scientific beyond them (a 1e300 mm
+/// coordinate printed 300 digits, a 1e-300 one as 0.000).
+fn mm(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e9).contains(&x.abs()) {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+/// An angle in radians, or why there is none (angles of a mesh whose squared lengths overflow).
+fn rad(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.6e} rad")
+    } else {
+        "not computable in f64 (see the warning)".to_string()
+    }
 }

@@ -65,7 +65,13 @@ pub fn mesh_info(mesh: &TriMesh, topo: &Topology) -> MeshInfo {
     let defects = angle_defects(&mesh.positions, &mesh.faces, topo);
     let (mut max_d, mut sum_d, mut n_int) = (0.0f64, 0.0, 0usize);
     for d in defects.iter().flatten() {
-        max_d = max_d.max(d.abs());
+        // NaN (angles of overflowed lengths) must show in the max as in the mean: `f64::max`
+        // alone would skip it.
+        max_d = if d.is_nan() || max_d.is_nan() {
+            f64::NAN
+        } else {
+            max_d.max(d.abs())
+        };
         sum_d += d.abs();
         n_int += 1;
     }
