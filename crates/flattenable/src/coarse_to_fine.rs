@@ -452,6 +452,7 @@ struct Tally {
     best: Option<(f64, Vec<[f64; 3]>, PieceReport)>,
     rejected: usize,
     factorizations: usize,
+    corrections: usize,
 }
 
 impl Tally {
@@ -459,6 +460,7 @@ impl Tally {
     fn count(&mut self, rep: &PieceReport) {
         self.rejected += rep.rejected_steps;
         self.factorizations += rep.factorizations;
+        self.corrections += rep.corrections;
     }
 
     /// Keeps an unconverged attempt if its merit `m` is the lowest so far.
@@ -494,6 +496,7 @@ impl Tally {
         rep.messages = self.notes;
         rep.rejected_steps += self.rejected;
         rep.factorizations += self.factorizations;
+        rep.corrections += self.corrections;
         rep
     }
 }
@@ -521,6 +524,7 @@ fn fresh(report: &PieceReport) -> PieceReport {
         theta_err: Vec::new(),
         rejected_steps: 0,
         backtracked_steps: 0,
+        corrections: 0,
         pull_backs: 0,
         factorizations: 0,
         stop_reason: String::new(),
@@ -667,6 +671,7 @@ fn pass(
         };
         report.rejected_steps += rep.rejected_steps;
         report.factorizations += rep.factorizations;
+        report.corrections += rep.corrections;
         let mut theta = vec![0.0; lp.layout.n()];
         lp.layout.theta(&pos, &mut theta);
         let err = Piece::errors(&theta).0;

@@ -192,6 +192,7 @@ pub(crate) fn extend(region: &Region, positions: &[[f64; 3]], local: &[[f64; 3]]
 /// Adds a region run's cost to the parent's report.
 pub(crate) fn account(parent: &mut PieceReport, sub: &PieceReport) {
     parent.factorizations += sub.factorizations;
+    parent.corrections += sub.corrections;
     parent.rejected_steps += sub.rejected_steps;
     parent.backtracked_steps += sub.backtracked_steps;
 }

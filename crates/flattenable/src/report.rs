@@ -67,6 +67,11 @@ pub struct PieceReport {
     /// Rejected trials rescued by a fraction of the same step (no new factorisation;
     /// robust mode, counted in `rejected_steps` too).
     pub backtracked_steps: usize,
+    /// Second-order corrections kept (robust mode): each moved the trial point for one solve
+    /// and one θ evaluation with the step's factorisation, where another step would have
+    /// cost a factorisation. None on a piece below 1 000 faces solved directly, where a
+    /// factorisation is too cheap for them to pay.
+    pub corrections: usize,
     /// Pull-backs towards the input taken by `Target::Detail` (robust mode; counted in
     /// `iterations`).
     pub pull_backs: usize,

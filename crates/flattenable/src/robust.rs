@@ -107,6 +107,16 @@ const CORRECTION_RELAXED_MIN_FACES: usize = 15_000;
 /// So results are the same, bit for bit, and each skipped correction saves a solve and a θ
 /// (~25 ms at 100k faces).
 const CORRECTION_SKIP_ABOVE: f64 = 1e3;
+/// Pieces below this many faces, solved directly from their input, take no corrections:
+/// there a factorisation is so cheap (8 µs at 250 faces) that a correction's solve, θ and
+/// fold check cost ~40 % of the iteration it may save. Measured (release, `STEP_RATIO=1
+/// SIZES=8,…,30 … measure -- speed`, twenty-eighth session): the caps of 98–1 058 faces ran
+/// 5–40 % faster without them (detail target 242 faces 0.63 → 0.57 ms, 882 faces 6.4 →
+/// 4.1 ms), the 1 250 and 1 682 ones 15–22 % slower; 60 random pieces of 100–1.9k faces and
+/// 60 body patches of 108–1.8k faces converged as before in the same time, most to the same
+/// surface, and the five bundled pipelines' files were unchanged. Coarse levels keep them:
+/// without, the 3.5k cap's level of 882 faces led to a fine level 31 → 39 ms.
+const CORRECTION_MIN_FACES: usize = 1_000;
 /// Accept a trial when ρ exceeds this (any real decrease of the merit).
 const RHO_ACCEPT: f64 = 1e-4;
 /// θ_err from which the merit has a dead zone (radians), and its half-width as a fraction of
@@ -351,6 +361,9 @@ fn run_inner(
 ) -> RobustOutcome {
     let hand_over = kind.hand_over;
     let local = matches!(polish, Polish::Local);
+    // Second-order corrections, except on a small piece's own run (`CORRECTION_MIN_FACES`).
+    let corrections_pay = piece.faces.len() >= CORRECTION_MIN_FACES
+        || !matches!(polish, Polish::Global | Polish::Local);
     let layout = &piece.layout;
     let n = layout.n();
     let mut pos = start.to_vec();
@@ -852,10 +865,12 @@ fn run_inner(
             // set θ = 2π. Kept while each one at least halves the merit, or on a large piece
             // near θ = 2π cuts it by a fifth as predicted (`keep_correction`); none is tried
             // after a trial that raised the merit more than `CORRECTION_SKIP_ABOVE`-fold.
+            // Corrections kept on this trial, counted if it is accepted.
+            let mut trial_corrections = 0;
             if folded == 0 && ls.is_none() {
                 let relaxed = err <= CORRECTION_RELAXED_BELOW_RAD
                     && piece.faces.len() >= CORRECTION_RELAXED_MIN_FACES;
-                let corrections = if f_trial > CORRECTION_SKIP_ABOVE * f {
+                let corrections = if f_trial > CORRECTION_SKIP_ABOVE * f || !corrections_pay {
                     0
                 } else {
                     MAX_CORRECTIONS
@@ -889,6 +904,7 @@ fn run_inner(
                     trial = cand;
                     trial_theta = cand_theta;
                     f_trial = f_cand;
+                    trial_corrections += 1;
                 }
             }
             if ls.is_some() {
@@ -921,6 +937,7 @@ fn run_inner(
                 } else if rho < 0.25 {
                     mu *= 2.0;
                 }
+                report.corrections += trial_corrections;
                 accepted = Some((trial, None));
                 break;
             }
