@@ -431,6 +431,16 @@ fn run_piece(
         }
     };
     piece.measure(&positions, &theta0, &mut report);
+    if opts.mode == Mode::Robust
+        && opts.target == Target::Detail
+        && piece.faces.len() > crate::pull_back::PULL_BACK_MAX_FACES
+    {
+        report.messages.push(format!(
+            "detail target: no pull-backs towards the input on a piece of {} faces (above {}, every one measured was undone after a long restore), so the result is the zero target's",
+            piece.faces.len(),
+            crate::pull_back::PULL_BACK_MAX_FACES
+        ));
+    }
     let roughness = (!report.converged && theta0.len() >= ROUGH_MIN_INTERIOR)
         .then(|| median_abs_defect(&theta0));
     if let Some(median) = roughness.filter(|&m| m > ROUGH_MEDIAN_DEFECT_RAD) {

@@ -33,6 +33,13 @@ pub(crate) const PULL_BACK_AT_RAD: f64 = 1e-7;
 /// At most this many pull-backs per piece (each costs a factorisation and a few
 /// restoring iterations).
 pub(crate) const PULL_BACKS: usize = 4;
+/// No pull-backs on a piece of more faces than this: there the restore after a pull-back is
+/// a stretch of the near-flat tail, which grows with the piece, and every one measured above
+/// 50 000 faces was undone — the 85k upper back, the 100k and 200k bench caps, after 1–4
+/// restoring iterations, 4–6 factorisations each, 10–20 % of the run, for the zero target's
+/// result bit for bit. The 37k thigh keeps its pull-back (RMS −0.9 %), restored in nine
+/// iterations (docs/algorithms/flattenable.md, "Pull-backs on large pieces").
+pub(crate) const PULL_BACK_MAX_FACES: usize = 50_000;
 /// Pull-backs stop when one would shorten the RMS displacement by less than this fraction.
 const PULL_BACK_MIN_GAIN: f64 = 5e-3;
 /// A pull-back is shortened (halved, at most `PULL_BACK_HALVINGS` times) until θ_err after it

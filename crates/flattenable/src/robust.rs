@@ -45,8 +45,9 @@ use crate::least_norm::{Layout, Metric};
 use crate::options::{Damping, ProcessOptions, Target, Update};
 use crate::piece::{Piece, beyond};
 use crate::pull_back::{
-    self, AreaRow, PULL_BACK_AT_RAD, PULL_BACK_MAX_ERR_RAD, PULL_BACK_REFUSALS,
-    PULL_BACK_SHORT_MAX_ERR_RAD, PULL_BACKS, Projection, Restoring, Snapshot, displacement2,
+    self, AreaRow, PULL_BACK_AT_RAD, PULL_BACK_MAX_ERR_RAD, PULL_BACK_MAX_FACES,
+    PULL_BACK_REFUSALS, PULL_BACK_SHORT_MAX_ERR_RAD, PULL_BACKS, Projection, Restoring, Snapshot,
+    displacement2,
 };
 use crate::report::PieceReport;
 
@@ -434,7 +435,8 @@ fn run_inner(
     // (the direct update's is the zero target's), so that the pull-backs trade no area
     // change for their shorter displacement.
     let mut area_goal: Option<f64> = None;
-    let mut pull_backs = if opts.target == Target::Detail && !matches!(polish, Polish::Coarse) {
+    let detail = opts.target == Target::Detail && !matches!(polish, Polish::Coarse);
+    let mut pull_backs = if detail && piece.faces.len() <= PULL_BACK_MAX_FACES {
         PULL_BACKS
     } else {
         0
