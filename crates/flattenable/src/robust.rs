@@ -106,7 +106,14 @@ const CORRECTION_RELAXED_MIN_FACES: usize = 15_000;
 /// of them above 1e3; on the seven one-ulp 100×100 saddles (detail) the kept corrections
 /// followed trials of f_trial / f ≤ 18.7, pull-back restores that the corrections rescue.
 /// So results are the same, bit for bit, and each skipped correction saves a solve and a θ
-/// (~25 ms at 100k faces).
+/// (~25 ms at 100k faces). Where the relaxed rule applies (pieces of at least
+/// `CORRECTION_RELAXED_MIN_FACES`, θ_err ≤ `CORRECTION_RELAXED_BELOW_RAD`) and no pull-back is
+/// being restored, none after a trial that raised the merit at all: on the 100k cap (zero
+/// target, twenty-eighth session) the six tried after f_trial / f of 4 to 243 were refused
+/// (f_cand / f_trial 8e5 to 1e9), and skipping them left every result the same to the printed
+/// digit (the 19.6k–50k caps, the seven one-ulp 100×100 saddles with both targets, three
+/// one-ulp 100k caps, the body pieces, the 85k upper back) for 2–4 % of the 100k cap's and
+/// the 85k piece's time.
 const CORRECTION_SKIP_ABOVE: f64 = 1e3;
 /// Pieces below this many faces, solved directly from their input, take no corrections:
 /// there a factorisation is so cheap (8 µs at 250 faces) that a correction's solve, θ and
@@ -872,11 +879,15 @@ fn run_inner(
             if folded == 0 && ls.is_none() {
                 let relaxed = err <= CORRECTION_RELAXED_BELOW_RAD
                     && piece.faces.len() >= CORRECTION_RELAXED_MIN_FACES;
-                let corrections = if f_trial > CORRECTION_SKIP_ABOVE * f || !corrections_pay {
-                    0
-                } else {
-                    MAX_CORRECTIONS
-                };
+                // On a large piece near θ = 2π, outside a restore, a trial that raised the
+                // merit at all gets none (`CORRECTION_SKIP_ABOVE`).
+                let raised = relaxed && restoring.is_none() && f_trial >= f;
+                let corrections =
+                    if f_trial > CORRECTION_SKIP_ABOVE * f || raised || !corrections_pay {
+                        0
+                    } else {
+                        MAX_CORRECTIONS
+                    };
                 for _ in 0..corrections {
                     let r = residual_beyond(&trial_theta, dead_zone);
                     let Some(dc) = solve(&r) else { break };
