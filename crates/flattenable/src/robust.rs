@@ -120,9 +120,9 @@ const CORRECTION_SKIP_ABOVE: f64 = 1e3;
 /// fold check cost ~40 % of the iteration it may save. Measured (release, `STEP_RATIO=1
 /// SIZES=8,…,30 … measure -- speed`, twenty-eighth session): the caps of 98–1 058 faces ran
 /// 5–40 % faster without them (detail target 242 faces 0.63 → 0.57 ms, 882 faces 6.4 →
-/// 4.1 ms), the 1 250 and 1 682 ones 15–22 % slower; 60 random pieces of 100–1.9k faces and
-/// 60 body patches of 108–1.8k faces converged as before in the same time, most to the same
-/// surface, and the five bundled pipelines' files were unchanged. Coarse levels keep them:
+/// 4.1 ms), the 1 250 and 1 682 ones 15–22 % slower; of 60 random pieces of 100–1.9k faces
+/// (in about the same time) and 60 body patches of 108–1.8k faces the same ones converged,
+/// most to the same surface, and the five bundled pipelines' files were unchanged. Coarse levels keep them:
 /// without, the 3.5k cap's level of 882 faces led to a fine level 31 → 39 ms.
 const CORRECTION_MIN_FACES: usize = 1_000;
 /// Accept a trial when ρ exceeds this (any real decrease of the merit).

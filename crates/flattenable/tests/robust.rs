@@ -353,13 +353,6 @@ fn blow_ups_near_theta_2pi_are_backtracked_deep() {
     assert!(p.factorizations < 75, "{} factorisations", p.factorizations);
 }
 
-/// A pull-back leaves the surface up to 1e-4 rad from θ = 2π with the tiny damping of the
-/// converged phase, so its first restoring step blows up (ρ ≈ −7e4 on the bench's 43×43 cap,
-/// 3.5k faces, default detail target). Backtracked deep, it costs a few θ evaluations instead
-/// of a factorisation per raise of the damping: 34 factorisations for the three pull-backs'
-/// run, 54 when it was not. Since the projection takes the run's damping (twenty-fifth
-/// session) one pull-back is taken and restored in two iterations, one of them backtracked:
-/// 20 factorisations; the RMS displacement stays below the zero target's.
 /// Second-order corrections pay where a factorisation is dear: a piece below 1 000 faces
 /// solved directly takes none (at 242 faces a correction's solve, θ and fold check cost ~40 %
 /// of the 8 µs-factorisation iteration it may save), a piece above keeps them, and so does a
@@ -396,6 +389,13 @@ fn corrections_are_kept_above_a_thousand_faces_and_on_coarse_levels() {
     assert!(p.corrections > 0, "{p:?}");
 }
 
+/// A pull-back leaves the surface up to 1e-4 rad from θ = 2π with the tiny damping of the
+/// converged phase, so its first restoring step blows up (ρ ≈ −7e4 on the bench's 43×43 cap,
+/// 3.5k faces, default detail target). Backtracked deep, it costs a few θ evaluations instead
+/// of a factorisation per raise of the damping: 34 factorisations for the three pull-backs'
+/// run, 54 when it was not. Since the projection takes the run's damping (twenty-fifth
+/// session) one pull-back is taken and restored in two iterations, one of them backtracked:
+/// 20 factorisations; the RMS displacement stays below the zero target's.
 #[test]
 fn blow_ups_while_restoring_a_pull_back_are_backtracked_deep() {
     let mesh = common::bench_cap(43);
