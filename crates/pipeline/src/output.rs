@@ -96,10 +96,7 @@ pub fn check(
         }
         // Files an earlier run wrote and this one does not are removed by `write`: never an
         // input (a run reading an earlier run's piece from the folder deleted it).
-        for stale in previous_files(dir)
-            .into_iter()
-            .filter(|f| is_plain_relative(f) && !outputs.contains(f))
-        {
+        for stale in stale_files(dir, |f| outputs.iter().any(|o| o == f)) {
             let path = dir.join(&stale);
             if let Ok(c) = std::fs::canonicalize(&path)
                 && inputs.contains(&c)
@@ -156,6 +153,16 @@ fn previous_files(dir: &Path) -> Vec<String> {
         .unwrap_or_default()
 }
 
+/// The files an earlier run wrote in `dir` (its report.json's list, names that stay inside
+/// the folder) that this run, which writes the names `written` accepts, does not: the ones
+/// [`write`] removes, and which [`check`] makes sure are no input.
+fn stale_files(dir: &Path, written: impl Fn(&str) -> bool) -> Vec<String> {
+    previous_files(dir)
+        .into_iter()
+        .filter(|f| is_plain_relative(f) && !written(f))
+        .collect()
+}
+
 /// A name from a report is only trusted if it stays inside the folder.
 fn is_plain_relative(name: &str) -> bool {
     let p = Path::new(name);
@@ -179,7 +186,7 @@ pub fn write(
         })
     };
     mkdir(dir)?;
-    let stale = previous_files(dir);
+    let stale = stale_files(dir, |f| files.contains_key(f));
     let report_path = dir.join(REPORT);
     if report_path.exists() {
         std::fs::remove_file(&report_path).map_err(|source| PipelineError::Write {
@@ -189,9 +196,7 @@ pub fn write(
     }
     write_atomic(&dir.join(MARKER), format!("{name}\n").as_bytes())?;
     for old in stale {
-        if !files.contains_key(&old) && is_plain_relative(&old) {
-            let _ = std::fs::remove_file(dir.join(&old));
-        }
+        let _ = std::fs::remove_file(dir.join(&old));
     }
     for (rel, bytes) in files {
         let path = dir.join(rel);
