@@ -433,12 +433,19 @@ fn run_piece(
     piece.measure(&positions, &theta0, &mut report);
     if opts.mode == Mode::Robust
         && opts.target == Target::Detail
-        && piece.faces.len() > crate::pull_back::PULL_BACK_MAX_FACES
+        && !pull_back::allowed(piece.faces.len())
     {
+        // With the least-square update the detail target also filters towards L v⁰, so only
+        // the direct update's result is the zero target's.
         report.messages.push(format!(
-            "detail target: no pull-backs towards the input on a piece of {} faces (above {}, every one measured was undone after a long restore), so the result is the zero target's",
+            "detail target: no pull-backs towards the input on a piece of {} faces (above {}, every one measured was undone after a long restore){}",
             piece.faces.len(),
-            crate::pull_back::PULL_BACK_MAX_FACES
+            pull_back::PULL_BACK_MAX_FACES,
+            if opts.update == Update::Direct {
+                ", so the result is the zero target's"
+            } else {
+                ""
+            }
         ));
     }
     let roughness = (!report.converged && theta0.len() >= ROUGH_MIN_INTERIOR)

@@ -40,6 +40,11 @@ pub(crate) const PULL_BACKS: usize = 4;
 /// result bit for bit. The 37k thigh keeps its pull-back (RMS −0.9 %), restored in nine
 /// iterations (docs/algorithms/flattenable.md, "Pull-backs on large pieces").
 pub(crate) const PULL_BACK_MAX_FACES: usize = 50_000;
+
+/// Whether a piece of `faces` faces takes pull-backs at all ([`PULL_BACK_MAX_FACES`]).
+pub(crate) fn allowed(faces: usize) -> bool {
+    faces <= PULL_BACK_MAX_FACES
+}
 /// Pull-backs stop when one would shorten the RMS displacement by less than this fraction.
 const PULL_BACK_MIN_GAIN: f64 = 5e-3;
 /// A pull-back is shortened (halved, at most `PULL_BACK_HALVINGS` times) until θ_err after it

@@ -45,9 +45,8 @@ use crate::least_norm::{Layout, Metric};
 use crate::options::{Damping, ProcessOptions, Target, Update};
 use crate::piece::{Piece, beyond};
 use crate::pull_back::{
-    self, AreaRow, PULL_BACK_AT_RAD, PULL_BACK_MAX_ERR_RAD, PULL_BACK_MAX_FACES,
-    PULL_BACK_REFUSALS, PULL_BACK_SHORT_MAX_ERR_RAD, PULL_BACKS, Projection, Restoring, Snapshot,
-    displacement2,
+    self, AreaRow, PULL_BACK_AT_RAD, PULL_BACK_MAX_ERR_RAD, PULL_BACK_REFUSALS,
+    PULL_BACK_SHORT_MAX_ERR_RAD, PULL_BACKS, Projection, Restoring, Snapshot, displacement2,
 };
 use crate::report::PieceReport;
 
@@ -443,7 +442,7 @@ fn run_inner(
     // change for their shorter displacement.
     let mut area_goal: Option<f64> = None;
     let detail = opts.target == Target::Detail && !matches!(polish, Polish::Coarse);
-    let mut pull_backs = if detail && piece.faces.len() <= PULL_BACK_MAX_FACES {
+    let mut pull_backs = if detail && pull_back::allowed(piece.faces.len()) {
         PULL_BACKS
     } else {
         0
