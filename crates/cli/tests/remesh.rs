@@ -217,20 +217,20 @@ fn remesh_refuses_a_report_over_its_input() {
     let input = dir.path().join("in.obj");
     let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     std::fs::write(&input, text).unwrap();
-    let out = flatcut()
-        .args(["remesh", "--edge-mm", "0.3"])
-        .arg(&input)
-        .arg(dir.path().join("o.obj"))
-        .arg("--report")
-        .arg(&input)
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let output = dir.path().join("o.obj");
+    let err = common::refused([
+        "remesh".as_ref(),
+        "--edge-mm".as_ref(),
+        "0.3".as_ref(),
+        input.as_os_str(),
+        output.as_os_str(),
+        "--report".as_ref(),
+        input.as_os_str(),
+    ]);
     assert!(
         err.contains("--report") && err.contains("is the input IN"),
         "{err}"
     );
     assert_eq!(std::fs::read_to_string(&input).unwrap(), text);
-    assert!(!dir.path().join("o.obj").exists());
+    assert!(!output.exists());
 }
