@@ -898,8 +898,9 @@ fn saddles() {
     }
     let run = |seed: u64| -> String {
         // `SHAPE=bcap`: the bench's sphere cap instead of the saddle; `SHAPE=para`: the
-        // shallow paraboloid z = A (x² + y²) on [−1, 1]² (A=0.1 unless given), which stalls
-        // at 160×160 (docs/algorithms/flattenable.md, "What does not work yet").
+        // shallow paraboloid z = A (x² + y²) on [−1, 1]² (A=0.1 unless given), which stalled
+        // at 160×160 before smoothed steps (docs/algorithms/flattenable.md, "Shallow pieces: a
+        // smoothed step").
         let mut mesh = match std::env::var("SHAPE").as_deref() {
             Ok("bcap") => common::bench_cap(n),
             Ok("para") => {

@@ -453,6 +453,7 @@ struct Tally {
     rejected: usize,
     factorizations: usize,
     corrections: usize,
+    smoothed_steps: usize,
 }
 
 impl Tally {
@@ -461,6 +462,7 @@ impl Tally {
         self.rejected += rep.rejected_steps;
         self.factorizations += rep.factorizations;
         self.corrections += rep.corrections;
+        self.smoothed_steps += rep.smoothed_steps;
     }
 
     /// Keeps an unconverged attempt if its merit `m` is the lowest so far.
@@ -497,6 +499,7 @@ impl Tally {
         rep.rejected_steps += self.rejected;
         rep.factorizations += self.factorizations;
         rep.corrections += self.corrections;
+        rep.smoothed_steps += self.smoothed_steps;
         rep
     }
 }
@@ -525,6 +528,7 @@ fn fresh(report: &PieceReport) -> PieceReport {
         rejected_steps: 0,
         backtracked_steps: 0,
         corrections: 0,
+        smoothed_steps: 0,
         pull_backs: 0,
         factorizations: 0,
         stop_reason: String::new(),
@@ -672,6 +676,7 @@ fn pass(
         report.rejected_steps += rep.rejected_steps;
         report.factorizations += rep.factorizations;
         report.corrections += rep.corrections;
+        report.smoothed_steps += rep.smoothed_steps;
         let mut theta = vec![0.0; lp.layout.n()];
         lp.layout.theta(&pos, &mut theta);
         let err = Piece::errors(&theta).0;

@@ -28,6 +28,7 @@ mod progress;
 mod pull_back;
 mod report;
 mod robust;
+mod smoothed_step;
 
 pub use error::FlattenableError;
 pub use options::{

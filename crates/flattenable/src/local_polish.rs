@@ -193,6 +193,7 @@ pub(crate) fn extend(region: &Region, positions: &[[f64; 3]], local: &[[f64; 3]]
 pub(crate) fn account(parent: &mut PieceReport, sub: &PieceReport) {
     parent.factorizations += sub.factorizations;
     parent.corrections += sub.corrections;
+    parent.smoothed_steps += sub.smoothed_steps;
     parent.rejected_steps += sub.rejected_steps;
     parent.backtracked_steps += sub.backtracked_steps;
 }

@@ -72,6 +72,10 @@ pub struct PieceReport {
     /// cost a factorisation. None on a piece below 1 000 faces solved directly, where a
     /// factorisation is too cheap for them to pay.
     pub corrections: usize,
+    /// Smoothed steps taken (robust mode, every attempt; each also counts as an iteration of
+    /// its attempt): low-pass filtered Gauss–Newton steps on a plateau near θ = 2π, where the
+    /// damped steps of a shallow piece gain < 1 % each.
+    pub smoothed_steps: usize,
     /// Pull-backs towards the input taken by `Target::Detail` (robust mode; counted in
     /// `iterations`).
     pub pull_backs: usize,

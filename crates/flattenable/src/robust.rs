@@ -49,6 +49,7 @@ use crate::pull_back::{
     PULL_BACK_SHORT_MAX_ERR_RAD, PULL_BACKS, Projection, Restoring, Snapshot, displacement2,
 };
 use crate::report::PieceReport;
+use crate::smoothed_step::{self, Filters};
 
 /// Initial damping relative to the mean diagonal of A G Aᵀ (the prototype's value).
 const MU_START: f64 = 1e-3;
@@ -145,6 +146,26 @@ const DEAD_ZONE_FRACTION: f64 = 0.5;
 /// the linear phase lasted longer than the stall window (cap 100×100 stalled at 1.1e-5, now
 /// converges in ~100 iterations).
 const MU_DOWN: f64 = 10.0;
+/// A smoothed step (`smoothed_step.rs`) is tried after this many accepted steps in a row each
+/// gained less than `SMOOTH_STAGNANT_GAIN` of the merit, within `SMOOTH_BELOW_RAD` of θ = 2π
+/// (and after twice as many again each time one was tried and gained less than
+/// `SMOOTH_MIN_GAIN`). On the shallow paraboloids (`SHAPE=para`, A = 0.01–0.3 at 130–225
+/// vertices a side) the damped steps there gained 0.001–0.01 % each, a smoothed step 5–40 %:
+/// 19 of 20 converge where 12 did (docs/algorithms/flattenable.md, "Shallow pieces: a smoothed
+/// step"). The gate keeps every path that gains ≥ 1 % per step as it was: the caps, saddles,
+/// random pieces, body pieces and the bundled pipelines gave the same results to the printed
+/// digit (one 71k-face cap took a smoothed step: 65 → 66 factorisations, the same surface).
+/// Not farther from θ = 2π: the 100×100 saddle's slow phase and the scan-resolution body
+/// pieces at 2e-4–8e-4 gained ≤ 11 % per smoothed step and took longer paths.
+const SMOOTH_AFTER: usize = 5;
+const SMOOTH_STAGNANT_GAIN: f64 = 1e-2;
+const SMOOTH_BELOW_RAD: f64 = 1e-5;
+/// A smoothed step is kept when it gains at least this fraction of the merit: it cost a
+/// factorisation, as a damped step that would have gained < `SMOOTH_STAGNANT_GAIN` does.
+const SMOOTH_MIN_GAIN: f64 = 1e-2;
+/// Relative damping of the step that is filtered: the Gauss–Newton step, damped only enough
+/// to keep the factorisation defined (1e-11 measured the same on the paraboloid).
+const SMOOTH_MU: f64 = 1e-9;
 
 /// The right-hand side of a step: 2π − θ beyond the merit's dead zone, per interior vertex.
 fn residual_beyond(theta: &[f64], dead_zone: f64) -> Vec<f64> {
@@ -367,6 +388,7 @@ fn run_inner(
     report: &mut PieceReport,
 ) -> RobustOutcome {
     let hand_over = kind.hand_over;
+    let smoothed_before = report.smoothed_steps;
     let local = matches!(polish, Polish::Local);
     // Second-order corrections, except on a small piece's own run (`CORRECTION_MIN_FACES`).
     let corrections_pay = piece.faces.len() >= CORRECTION_MIN_FACES
@@ -468,6 +490,13 @@ fn run_inner(
     let limit = opts.iteration_limit();
     let mut last_lift = 0usize;
     let mut lifts = 0usize;
+    // Smoothed steps: accepted steps in a row that gained < `SMOOTH_STAGNANT_GAIN`, how many
+    // a try waits for (doubled after a try without gain), and the filters, built at the
+    // first try (L depends on the connectivity only: one factorisation per stiffness).
+    let mut stagnant = 0usize;
+    let mut smooth_wait = SMOOTH_AFTER;
+    let filters: std::cell::OnceCell<Option<Filters>> = std::cell::OnceCell::new();
+    let filter_factors = std::cell::OnceCell::new();
     // Whether θ_err has been within the tolerance or a pull-back taken (the detail target's
     // pull-backs start at 1e-7 and go on past the tolerance: the budget must not cut them).
     let mut reached = false;
@@ -652,6 +681,61 @@ fn run_inner(
             );
             handed_over = true;
             break;
+        }
+        // A plateau of a shallow piece: the damped steps gain nothing while the residual is
+        // smooth; a filtered Gauss–Newton step removes its smooth part (`smoothed_step.rs`).
+        if stagnant >= smooth_wait
+            && ls.is_none()
+            && restoring.is_none()
+            && area_goal.is_none()
+            && matches!(polish, Polish::Global | Polish::Local)
+            && err > opts.tolerance_rad
+            && err <= SMOOTH_BELOW_RAD
+        {
+            stagnant = 0;
+            let factorizations_before = report.factorizations;
+            let eff: Vec<f64> = scale.iter().zip(&stiff).map(|(s, k)| s / (k * k)).collect();
+            let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
+            let metric = Metric {
+                scale: &eff,
+                normals: normals.as_deref(),
+                tangential,
+            };
+            let factors = filters
+                .get_or_init(|| Filters::new(layout, &piece.faces))
+                .as_ref()
+                .map(|f| filter_factors.get_or_init(|| f.factors()));
+            let smoothed = factors.and_then(|factors| {
+                smoothed_trial(
+                    piece,
+                    (&pos, &theta, f, dead_zone),
+                    (&grad, &metric, &mut normal, &mut factor),
+                    factors,
+                    opts,
+                    &norm,
+                    report,
+                )
+            });
+            match smoothed {
+                Some((next, next_theta, f_next)) if f_next <= (1.0 - SMOOTH_MIN_GAIN) * f => {
+                    smooth_wait = SMOOTH_AFTER;
+                    pos = next;
+                    theta = next_theta;
+                    layout.gradient(&pos, &mut grad);
+                    (err, f) = norm.merit(&theta, dead_zone);
+                    report.iterations += 1;
+                    report.smoothed_steps += 1;
+                    report.theta_err.push(err);
+                    best.record(f, &pos, report.iterations, report.factorizations);
+                    continue;
+                }
+                _ => {
+                    // Not counted against the stall budget: the damped steps go on as if
+                    // it had not been tried.
+                    smooth_wait *= 2;
+                    best.factorizations_at += report.factorizations - factorizations_before;
+                }
+            }
         }
         // A long run without gain, with nearly flat stars left at excess angle: give them
         // their second-order step (`lift_flat_excess`), then restart the stall count.
@@ -1006,7 +1090,13 @@ fn run_inner(
             None => std::mem::swap(&mut theta, &mut trial_theta),
         }
         layout.gradient(&pos, &mut grad);
+        let f_before = f;
         (err, f) = norm.merit(&theta, dead_zone);
+        if f < (1.0 - SMOOTH_STAGNANT_GAIN) * f_before {
+            stagnant = 0;
+        } else {
+            stagnant += 1;
+        }
         report.iterations += 1;
         report.theta_err.push(err);
         best.record(f, &pos, report.iterations, report.factorizations);
@@ -1029,6 +1119,12 @@ fn run_inner(
         report.messages.push(format!(
             "local polish: {} region runs ({} without gain), {} iterations, regions of up to {} of {n} interior vertices",
             polished.runs, polished.failed, polished.steps, polished.largest
+        ));
+    }
+    if report.smoothed_steps > smoothed_before {
+        report.messages.push(format!(
+            "{} smoothed steps (filtered Gauss–Newton steps on a plateau of a shallow piece)",
+            report.smoothed_steps - smoothed_before
         ));
     }
     if lifts > 0 {
@@ -1255,6 +1351,67 @@ fn lift_flat_excess(
         moved += 1;
     }
     (moved > 0 && piece.folded_faces(&out) == 0).then_some(out)
+}
+
+/// The smoothed step at `pos` (`smoothed_step.rs`): the Gauss–Newton step (damping
+/// `SMOOTH_MU`, one factorisation) filtered at every stiffness of `factors`, each scaled to
+/// its linear model's optimum; the unfolded one with the least merit, with its θ and merit.
+/// `None` when the factorisation or every filter fails or folds.
+fn smoothed_trial(
+    piece: &Piece,
+    (pos, theta, f, dead_zone): (&[[f64; 3]], &[f64], f64, f64),
+    (grad, metric, normal, factor): (
+        &[[f64; 3]],
+        &Metric<'_>,
+        &mut [f64],
+        &mut crate::least_norm::Factor,
+    ),
+    factors: &[flatcut_sparse::SpdFactor<'_>],
+    opts: &ProcessOptions,
+    norm: &MeritNorm<'_>,
+    report: &mut PieceReport,
+) -> Option<(Vec<[f64; 3]>, Vec<f64>, f64)> {
+    let layout = &piece.layout;
+    layout.normal_matrix(grad, metric, normal);
+    let mean_diag = layout.mean_diagonal(normal).max(f64::MIN_POSITIVE);
+    report.factorizations += 1;
+    layout
+        .refactor_damped(factor, normal, SMOOTH_MU * mean_diag, opts.damping)
+        .ok()?;
+    let b = residual_beyond(theta, dead_zone);
+    let mut x = b.clone();
+    layout.solve(factor, &mut x, 1);
+    if !x.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let d = layout.step_from_multipliers(grad, metric, &x);
+    let interior = piece.interior_of(pos);
+    let mut trial_theta = vec![0.0; layout.n()];
+    let mut best: Option<(Vec<[f64; 3]>, Vec<f64>, f64)> = None;
+    for filter in factors {
+        let Some(smooth) = smoothed_step::filtered(filter, &d) else {
+            continue;
+        };
+        let s = smoothed_step::model_scale(&b, &layout.apply(grad, &smooth));
+        let next: Vec<[f64; 3]> = interior
+            .iter()
+            .zip(&smooth)
+            .map(|(v, d)| [v[0] + s * d[0], v[1] + s * d[1], v[2] + s * d[2]])
+            .collect();
+        let trial = piece.with_interior(pos, &next);
+        if piece.folded_faces(&trial) > 0 {
+            continue;
+        }
+        layout.theta(&trial, &mut trial_theta);
+        let f_trial = norm.merit(&trial_theta, dead_zone).1;
+        if f_trial.is_finite()
+            && f_trial < f
+            && best.as_ref().is_none_or(|(_, _, fb)| f_trial < *fb)
+        {
+            best = Some((trial, trial_theta.clone(), f_trial));
+        }
+    }
+    best
 }
 
 /// Step fractions tried along a rejected direction before the damping is raised (1/2, 1/4,
