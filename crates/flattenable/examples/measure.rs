@@ -612,8 +612,9 @@ fn bodies() {
 
 /// `patches`: geodesic balls cut from the bodies of FLATCUT_DATA (env BODIES, comma-separated
 /// names; K centres each by farthest-point sampling; RADIUS as a fraction of the body's
-/// height, default 0.1, i.e. a disk ~1/5 of the body tall), each processed with the default
-/// options: one table row per patch.
+/// height, default 0.1, i.e. a disk ~1/5 of the body tall; LOOP=k Loop-subdivides each patch k
+/// times, to scan resolution), each processed with the default options: one table row per
+/// patch.
 fn patches() {
     let dir = std::env::var("FLATCUT_DATA").expect("set FLATCUT_DATA");
     let bodies: Vec<String> = env_list(
@@ -629,6 +630,7 @@ fn patches() {
     );
     let k: usize = env_or("K", 10);
     let fraction: f64 = env_or("RADIUS", 0.1);
+    let loops_of_subdivision: usize = env_or("LOOP", 0);
     for body in bodies {
         let path = std::path::Path::new(&dir).join(format!("{body}.obj"));
         let mesh = flatcut_io::read_mesh(&path, flatcut_io::Units::Mm)
@@ -636,7 +638,10 @@ fn patches() {
             .mesh;
         let height = common::largest_side(&mesh);
         for centre in common::spread_vertices(&mesh, k) {
-            let piece = common::geodesic_ball(&mesh, centre, fraction * height);
+            let mut piece = common::geodesic_ball(&mesh, centre, fraction * height);
+            for _ in 0..loops_of_subdivision {
+                piece = common::loop_subdivide(&piece);
+            }
             let t = std::time::Instant::now();
             let (r, ok) = match process_or_partial(&piece, &ProcessOptions::default()) {
                 Ok(r) => r,
