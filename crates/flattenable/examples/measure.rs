@@ -4,7 +4,7 @@
 //! [ONLY=cap12,…]; real and bodies [BODY=mh_body_subdiv2] with FLATCUT_DATA; DIAG=1 shows
 //! where the residual sits; speed [SIZES=…, REPS, TRACE=1, STEP_RATIO=1,
 //! BEST_OF=20 (kernel timings), ONLY_TARGET=zero|detail|none, SOLVE_HASH=1 (the bits of one solve)]; saddles [SEEDS=…, DIAG=1], the
-//! round-off robustness check; SHAPE=bcap for the bench cap, SHAPE=para [A=0.1] for a shallow paraboloid; random [COUNT, NMIN, NMAX, SEED,
+//! round-off robustness check; SHAPE=bcap for the bench cap, SHAPE=para [A=0.1, JITTER=0.3] for a shallow paraboloid; random [COUNT, NMIN, NMAX, SEED,
 //! TARGET]: a corpus of random pieces).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
@@ -910,7 +910,25 @@ fn saddles() {
             Ok("bcap") => common::bench_cap(n),
             Ok("para") => {
                 let a: f64 = env_or("A", 0.1);
-                common::grid(n, 1.0, |x, y| a * (x * x + y * y))
+                // JITTER=j: interior vertices moved in x and y by up to ±j of the spacing
+                // (37 fixed pseudo-random pairs, cycled) before the height is taken: an
+                // irregular triangulation of the same surface.
+                let j: f64 = env_or("JITTER", 0.0);
+                if j > 0.0 {
+                    let mut s = 0x2545_F491_4F6C_DD1Du64;
+                    let mut next = || {
+                        s ^= s << 13;
+                        s ^= s >> 7;
+                        s ^= s << 17;
+                        (s >> 11) as f64 / (1u64 << 53) as f64
+                    };
+                    let jitter: Vec<(f64, f64)> = (0..37)
+                        .map(|_| (j * (2.0 * next() - 1.0), j * (2.0 * next() - 1.0)))
+                        .collect();
+                    common::random_piece(n, &jitter, [a, 0.0, a, 0.0, 0.0, 0.0, 0.0])
+                } else {
+                    common::grid(n, 1.0, |x, y| a * (x * x + y * y))
+                }
             }
             _ => common::saddle(n),
         };
