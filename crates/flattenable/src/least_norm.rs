@@ -779,14 +779,26 @@ impl Layout {
     /// The graph-Laplacian damping's matrix D as triplets (interior indices): the metric of
     /// the shaped damping's merit ‖θ − 2π‖²_{D⁻¹}.
     pub fn graph_damping_triplets(&self) -> flatcut_sparse::Triplets {
+        let (unit, _) = self.graph_damping(1.0);
+        self.graph_triplets(|valence| unit * (GRAPH_DAMPING_EPSILON + valence), -unit)
+    }
+
+    /// A matrix on the graph of the interior vertices as lower triplets (interior indices):
+    /// `diagonal(full valence)` on the diagonal (boundary neighbours counted, as in a graph
+    /// Laplacian with the boundary held at zero), `off` for every pair of interior
+    /// neighbours; row by row, the diagonal first. With `|k| 1 + t k` and `−t` it is I + t L.
+    pub fn graph_triplets(
+        &self,
+        diagonal: impl Fn(f64) -> f64,
+        off: f64,
+    ) -> flatcut_sparse::Triplets {
         let n = self.n();
-        let (unit, diag) = self.graph_damping(1.0);
         let mut t = flatcut_sparse::Triplets::with_capacity(n, self.col.len());
-        for (i, &d) in diag.iter().enumerate() {
-            t.push(i, i, d);
+        for (i, &k) in self.valence.iter().enumerate() {
+            t.push(i, i, diagonal(k));
             for &j in &self.col[self.row_ptr[i] + 1..self.row_ptr[i + 1]] {
                 if (j as usize) < i {
-                    t.push(i, j as usize, -unit);
+                    t.push(i, j as usize, off);
                 }
             }
         }

@@ -702,9 +702,9 @@ fn run_inner(
                 tangential,
             };
             let factors = filters
-                .get_or_init(|| Filters::new(layout, &piece.faces))
+                .get_or_init(|| Filters::new(layout))
                 .as_ref()
-                .map(|f| filter_factors.get_or_init(|| f.factors()));
+                .map(|f| filter_factors.get_or_init(|| f.factors(layout)));
             let smoothed = factors.and_then(|factors| {
                 smoothed_trial(
                     piece,

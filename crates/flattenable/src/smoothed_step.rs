@@ -18,7 +18,7 @@
 //! are tried and the best result kept. L depends only on the connectivity, so its
 //! factorisations are computed once per run.
 
-use flatcut_sparse::{SpdFactor, SpdPattern};
+use flatcut_sparse::{SpdFactor, SpdPattern, Triplets};
 
 use crate::least_norm::Layout;
 
@@ -29,90 +29,37 @@ use crate::least_norm::Layout;
 /// single filter (50 Jacobi passes) converged some sizes and stalled others.
 pub(crate) const FILTER_STIFFNESS: [f64; 5] = [1.0, 4.0, 16.0, 64.0, 256.0];
 
-/// The graph Laplacian of a piece's interior vertices with its boundary held at zero: its
-/// pattern, factorised symbolically once, and the degree of every interior vertex (boundary
-/// neighbours included, so that a vertex next to the boundary is pulled towards zero).
+/// I + t L for a piece's interior vertices (L its graph Laplacian with the boundary held at
+/// zero, [`Layout::graph_triplets`]): the pattern, analysed once.
 pub(crate) struct Filters {
     pattern: SpdPattern,
-    /// (row, col) of the lower triangle, the diagonal first in each row.
-    pairs: Vec<(usize, usize)>,
-    degree: Vec<f64>,
+}
+
+/// I + t L as triplets.
+fn screened_laplacian(layout: &Layout, stiffness: f64) -> Triplets {
+    layout.graph_triplets(|valence| 1.0 + stiffness * valence, -stiffness)
 }
 
 impl Filters {
-    /// The Laplacian of `layout`'s interior vertices on `faces`; `None` only when the
-    /// symbolic factorisation cannot be allocated.
-    pub(crate) fn new(layout: &Layout, faces: &[[u32; 3]]) -> Option<Self> {
-        let n = layout.n();
-        // An interior vertex's fan is closed: it has as many neighbours as faces.
-        let mut degree = vec![0.0; n];
-        for face in faces {
-            for &v in face {
-                let i = layout.index_of[v as usize];
-                if i != flatcut_mesh::INVALID {
-                    degree[i as usize] += 1.0;
-                }
-            }
-        }
-        // Row i of A lists i, then its interior one-ring: the Laplacian's pattern.
-        let mut pairs = Vec::with_capacity(layout.entries());
-        for i in 0..n {
-            pairs.push((i, i));
-            for &j in &layout.col[layout.row_ptr[i] + 1..layout.row_ptr[i + 1]] {
-                if (j as usize) < i {
-                    pairs.push((i, j as usize));
-                }
-            }
-        }
-        let pattern = SpdPattern::new(n, &pairs).ok()?;
-        Some(Self {
-            pattern,
-            pairs,
-            degree,
-        })
-    }
-
-    /// The values of I + t L, in the order of `pairs`.
-    fn values(&self, stiffness: f64) -> Vec<f64> {
-        self.pairs
-            .iter()
-            .map(|&(i, j)| {
-                if i == j {
-                    1.0 + stiffness * self.degree[i]
-                } else {
-                    -stiffness
-                }
-            })
-            .collect()
+    /// The pattern of `layout`'s interior graph; `None` only when its symbolic factorisation
+    /// cannot be allocated.
+    pub(crate) fn new(layout: &Layout) -> Option<Self> {
+        let pattern = screened_laplacian(layout, 1.0).pattern().ok()?;
+        Some(Self { pattern })
     }
 
     /// The numeric factorisations of I + t L for every t of `FILTER_STIFFNESS` (I + t L is
     /// strictly diagonally dominant, so each succeeds unless memory runs out; one that fails
     /// is left out).
-    pub(crate) fn factors(&self) -> Vec<SpdFactor<'_>> {
+    pub(crate) fn factors(&self, layout: &Layout) -> Vec<SpdFactor<'_>> {
         FILTER_STIFFNESS
             .iter()
-            .filter_map(|&t| self.pattern.factor(&self.values(t)).ok())
+            .filter_map(|&t| {
+                self.pattern
+                    .factor(screened_laplacian(layout, t).values())
+                    .ok()
+            })
             .collect()
-    }
-
-    /// (I + t L) applied to a field: what [`filtered`] inverts (the tests' second formula).
-    #[cfg(test)]
-    pub(crate) fn apply(&self, stiffness: f64, field: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        let mut out: Vec<[f64; 3]> = field
-            .iter()
-            .zip(&self.degree)
-            .map(|(v, &k)| v.map(|x| (1.0 + stiffness * k) * x))
-            .collect();
-        for &(i, j) in &self.pairs {
-            if i != j {
-                for c in 0..3 {
-                    out[i][c] -= stiffness * field[j][c];
-                    out[j][c] -= stiffness * field[i][c];
-                }
-            }
-        }
-        out
     }
 }
 
@@ -147,7 +94,7 @@ pub(crate) fn model_scale(b: &[f64], ad: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{FILTER_STIFFNESS, Filters, filtered, model_scale};
+    use super::{FILTER_STIFFNESS, Filters, filtered, model_scale, screened_laplacian};
     use crate::least_norm::Layout;
     use flatcut_mesh::{Topology, TriMesh};
 
@@ -176,6 +123,22 @@ mod tests {
         Layout::build(&topo, &mesh.faces).unwrap()
     }
 
+    /// (I + t L) applied to a field, entry by entry from its triplets: the second formula
+    /// the filter is checked against.
+    fn apply(layout: &Layout, stiffness: f64, field: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let matrix = screened_laplacian(layout, stiffness);
+        let mut out = vec![[0.0; 3]; field.len()];
+        for (&(i, j), &v) in matrix.pairs().iter().zip(matrix.values()) {
+            for c in 0..3 {
+                out[i][c] += v * field[j][c];
+                if i != j {
+                    out[j][c] += v * field[i][c];
+                }
+            }
+        }
+        out
+    }
+
     /// The filter inverts I + t L (checked with the matrix applied entry by entry), and on
     /// a valence-6 grid the degree of every interior vertex is 6, boundary neighbours
     /// included.
@@ -183,19 +146,28 @@ mod tests {
     fn filter_inverts_the_screened_laplacian() {
         let mesh = grid(9);
         let layout = layout(&mesh);
-        let filters = Filters::new(&layout, &mesh.faces).unwrap();
-        assert!(filters.degree.iter().all(|&k| k == 6.0));
+        let laplacian = screened_laplacian(&layout, 1.0);
+        let degrees: Vec<f64> = laplacian
+            .pairs()
+            .iter()
+            .zip(laplacian.values())
+            .filter(|((i, j), _)| i == j)
+            .map(|(_, v)| v - 1.0)
+            .collect();
+        assert_eq!(degrees.len(), layout.n());
+        assert!(degrees.iter().all(|&k| k == 6.0), "{degrees:?}");
+        let filters = Filters::new(&layout).unwrap();
         let field: Vec<[f64; 3]> = (0..layout.n())
             .map(|i| {
                 let x = i as f64;
                 [x.sin(), (0.3 * x).cos(), 1.0]
             })
             .collect();
-        let factors = filters.factors();
+        let factors = filters.factors(&layout);
         assert_eq!(factors.len(), FILTER_STIFFNESS.len());
         for (factor, &t) in factors.iter().zip(&FILTER_STIFFNESS) {
             let smooth = filtered(factor, &field).unwrap();
-            let back = filters.apply(t, &smooth);
+            let back = apply(&layout, t, &smooth);
             for (a, b) in back.iter().zip(&field) {
                 for c in 0..3 {
                     assert!((a[c] - b[c]).abs() < 1e-12, "t = {t}: {a:?} vs {b:?}");
@@ -211,8 +183,8 @@ mod tests {
         let n = 21;
         let mesh = grid(n);
         let layout = layout(&mesh);
-        let filters = Filters::new(&layout, &mesh.faces).unwrap();
-        let factors = filters.factors();
+        let filters = Filters::new(&layout).unwrap();
+        let factors = filters.factors(&layout);
         let at = |f: &dyn Fn(f64, f64) -> f64| -> Vec<[f64; 3]> {
             layout
                 .interior
