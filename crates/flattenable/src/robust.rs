@@ -167,6 +167,12 @@ const SMOOTH_MIN_GAIN: f64 = 1e-2;
 /// to keep the factorisation defined (1e-11 measured the same on the paraboloid).
 const SMOOTH_MU: f64 = 1e-9;
 
+/// The metric's per-vertex scale 1/w² with the stiffness k a vertex of a would-be folded
+/// face earned: 1/(w k)² (Eq. 14 with w k for w).
+fn stiffened_scale(scale: &[f64], stiff: &[f64]) -> Vec<f64> {
+    scale.iter().zip(stiff).map(|(s, k)| s / (k * k)).collect()
+}
+
 /// The right-hand side of a step: 2π − θ beyond the merit's dead zone, per interior vertex.
 fn residual_beyond(theta: &[f64], dead_zone: f64) -> Vec<f64> {
     theta.iter().map(|t| beyond(TAU - t, dead_zone)).collect()
@@ -614,7 +620,7 @@ fn run_inner(
             };
             let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
             pull_backs -= 1;
-            let eff: Vec<f64> = scale.iter().zip(&stiff).map(|(s, k)| s / (k * k)).collect();
+            let eff = stiffened_scale(&scale, &stiff);
             let metric = Metric {
                 scale: &eff,
                 normals: normals.as_deref(),
@@ -694,7 +700,7 @@ fn run_inner(
         {
             stagnant = 0;
             let factorizations_before = report.factorizations;
-            let eff: Vec<f64> = scale.iter().zip(&stiff).map(|(s, k)| s / (k * k)).collect();
+            let eff = stiffened_scale(&scale, &stiff);
             let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
             let metric = Metric {
                 scale: &eff,
@@ -852,7 +858,7 @@ fn run_inner(
                 restore_refused = true;
                 break;
             }
-            let eff: Vec<f64> = scale.iter().zip(&stiff).map(|(s, k)| s / (k * k)).collect();
+            let eff = stiffened_scale(&scale, &stiff);
             let metric = Metric {
                 scale: &eff,
                 normals: normals.as_deref(),
