@@ -13,17 +13,6 @@
 mod common;
 use flatcut_flattenable::*;
 
-/// Uniform numbers in [0, 1) from a xorshift64 sequence started at `seed` (non-zero): the
-/// random corpus and the jittered paraboloid, reproducible from the seed.
-fn uniform(mut s: u64) -> impl FnMut() -> f64 {
-    move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 fn show(name: &str, mesh: &flatcut_mesh::TriMesh, opts: &ProcessOptions) {
     let t = std::time::Instant::now();
     let r = process(mesh, opts);
@@ -926,11 +915,7 @@ fn saddles() {
                 // irregular triangulation of the same surface.
                 let j: f64 = env_or("JITTER", 0.0);
                 if j > 0.0 {
-                    let mut next = uniform(0x2545_F491_4F6C_DD1D);
-                    let jitter: Vec<(f64, f64)> = (0..37)
-                        .map(|_| (j * (2.0 * next() - 1.0), j * (2.0 * next() - 1.0)))
-                        .collect();
-                    common::random_piece(n, &jitter, [a, 0.0, a, 0.0, 0.0, 0.0, 0.0])
+                    common::jittered_paraboloid(n, a, j)
                 } else {
                     common::grid(n, 1.0, |x, y| a * (x * x + y * y))
                 }
@@ -1217,7 +1202,7 @@ fn random() {
         coarse_to_fine: c2f_from_env(),
         ..Default::default()
     };
-    let mut next = uniform(env_or("SEED", 0x2026_1127));
+    let mut next = common::uniform(env_or("SEED", 0x2026_1127));
     // ONLY=k: piece k alone, with every message and its θ_err per iteration.
     let only: Option<usize> = std::env::var("ONLY").ok().and_then(|s| s.parse().ok());
     let (mut conv, mut its, mut facts, mut secs, mut rms) = (0usize, 0usize, 0usize, 0.0, 0.0);

@@ -296,6 +296,31 @@ pub fn random_piece(n: usize, jitter: &[(f64, f64)], c: [f64; 7]) -> TriMesh {
     mesh
 }
 
+/// Uniform numbers in [0, 1) from a xorshift64 sequence started at `seed` (non-zero): the
+/// random corpus of `measure -- random` and the jittered paraboloid, reproducible from the
+/// seed.
+pub fn uniform(mut s: u64) -> impl FnMut() -> f64 {
+    move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The paraboloid z = a (x² + y²) on [−1, 1]² on an irregular triangulation: the n×n grid
+/// with every interior vertex moved in x and y by up to ±`jitter` of the spacing (37 fixed
+/// pseudo-random offsets, cycled) before the height is taken. A shallow piece as a scan or a
+/// remesher leaves it, where the regular grid's smoothed steps gain nothing
+/// (docs/algorithms/flattenable.md, "Irregular shallow pieces: a smoothed jump").
+pub fn jittered_paraboloid(n: usize, a: f64, jitter: f64) -> TriMesh {
+    let mut next = uniform(0x2545_F491_4F6C_DD1D);
+    let offsets: Vec<(f64, f64)> = (0..37)
+        .map(|_| (jitter * (2.0 * next() - 1.0), jitter * (2.0 * next() - 1.0)))
+        .collect();
+    random_piece(n, &offsets, [a, 0.0, a, 0.0, 0.0, 0.0, 0.0])
+}
+
 /// One step of Loop subdivision (smooth interior rules, cubic B-spline rules on the
 /// boundary): 4× the faces on a smooth surface through the same boundary curve's limit.
 /// `measure -- bodies` with `LOOP=k` makes pieces at scan resolution from the bodies' cut
