@@ -135,6 +135,19 @@ pub(crate) struct Snapshot {
     pub(crate) dead_zone: f64,
 }
 
+impl Snapshot {
+    /// The state to go on from when what followed it is undone at `iterations` /
+    /// `factorizations`: its stall and lift counts shifted by the iterations spent since, and
+    /// the factorisations spent excused from the stall budget.
+    pub(crate) fn resumed(mut self, iterations: usize, factorizations: usize) -> Self {
+        let spent = iterations - self.iterations;
+        self.best.at += spent;
+        self.best.factorizations_at += factorizations - self.factorizations;
+        self.last_lift += spent;
+        self
+    }
+}
+
 /// A pull-back being restored.
 pub(crate) struct Restoring {
     /// The iteration it was taken at.

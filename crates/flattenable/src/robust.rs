@@ -588,15 +588,16 @@ fn run_inner(
             // target's path bit for bit (its stall and lift counts shifted by the iterations
             // spent).
             let spent = report.iterations - before.iterations;
-            pos = before.pos;
-            mu = before.mu;
-            stiff = before.stiff;
-            best = before.best;
-            best.at += spent;
-            best.factorizations_at += report.factorizations - before.factorizations;
-            last_lift = before.last_lift + spent;
-            dead_zone = before.dead_zone;
-            area_goal = before.area_goal;
+            Snapshot {
+                pos,
+                mu,
+                stiff,
+                best,
+                last_lift,
+                dead_zone,
+                area_goal,
+                ..
+            } = before.resumed(report.iterations, report.factorizations);
             // After a long pull-back, one more chance with short ones; after a short one, no
             // more (the detail target then ends where it stood before it). A long one that
             // already left θ_err within the short bound is the short one too (the same state,
@@ -631,16 +632,16 @@ fn run_inner(
                 && let Some(Jump { before, .. }) = jump.take()
             {
                 // Back to the state before it, as an undone pull-back is.
-                let spent = report.iterations - before.iterations;
-                pos = before.pos;
-                mu = before.mu;
-                stiff = before.stiff;
-                best = before.best;
-                best.at += spent;
-                best.factorizations_at += report.factorizations - before.factorizations;
-                last_lift = before.last_lift + spent;
-                dead_zone = before.dead_zone;
-                area_goal = before.area_goal;
+                Snapshot {
+                    pos,
+                    mu,
+                    stiff,
+                    best,
+                    last_lift,
+                    dead_zone,
+                    area_goal,
+                    ..
+                } = before.resumed(report.iterations, report.factorizations);
                 layout.evaluate(&pos, &mut theta, &mut grad);
                 (err, f) = norm.merit(&theta, dead_zone);
                 jumps_undone += 1;

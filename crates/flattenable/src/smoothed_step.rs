@@ -208,6 +208,28 @@ mod tests {
         }
     }
 
+    /// On the interior of the n×n `grid`: the smoothest Dirichlet mode
+    /// sin(π i / h) sin(π j / h) and the field alternating in sign between neighbours along
+    /// the rows and columns.
+    fn bump_and_alternating(layout: &Layout, n: usize) -> (Vec<f64>, Vec<f64>) {
+        let pi = std::f64::consts::PI;
+        let h = (n - 1) as f64;
+        layout
+            .interior
+            .iter()
+            .map(|&v| {
+                let (i, j) = ((v as usize % n) as f64, (v as usize / n) as f64);
+                let alternating = if (i + j) as i64 % 2 == 0 { 1.0 } else { -1.0 };
+                ((pi * i / h).sin() * (pi * j / h).sin(), alternating)
+            })
+            .unzip()
+    }
+
+    /// A scalar field as the first coordinate of a vector field.
+    fn first_coordinate(field: &[f64]) -> Vec<[f64; 3]> {
+        field.iter().map(|&x| [x, 0.0, 0.0]).collect()
+    }
+
     /// A low-pass filter: a checkerboard-like field (alternating signs along the rows) loses
     /// far more of its norm than a smooth bump, and more at a larger stiffness.
     #[test]
@@ -217,20 +239,8 @@ mod tests {
         let layout = layout(&mesh);
         let filters = Filters::new(&layout).unwrap();
         let factors = filters.factors(&layout).unwrap();
-        let at = |f: &dyn Fn(f64, f64) -> f64| -> Vec<[f64; 3]> {
-            layout
-                .interior
-                .iter()
-                .map(|&v| {
-                    let (i, j) = ((v as usize % n) as f64, (v as usize / n) as f64);
-                    [f(i, j), 0.0, 0.0]
-                })
-                .collect()
-        };
-        let pi = std::f64::consts::PI;
-        let h = (n - 1) as f64;
-        let smooth = at(&|i, j| (pi * i / h).sin() * (pi * j / h).sin());
-        let rough = at(&|i, j| if (i + j) as i64 % 2 == 0 { 1.0 } else { -1.0 });
+        let (bump, alternating) = bump_and_alternating(&layout, n);
+        let (smooth, rough) = (first_coordinate(&bump), first_coordinate(&alternating));
         let norm = |f: &[[f64; 3]]| f.iter().map(|v| v[0] * v[0]).sum::<f64>().sqrt();
         let mut last_rough = f64::INFINITY;
         for factor in &factors {
@@ -261,21 +271,7 @@ mod tests {
         let filters = Filters::new(&layout).unwrap();
         let factors = filters.factors(&layout).unwrap();
         let filter = &factors[super::JUMP_FILTER];
-        let pi = std::f64::consts::PI;
-        let h = (n - 1) as f64;
-        let cells: Vec<(f64, f64)> = layout
-            .interior
-            .iter()
-            .map(|&v| ((v as usize % n) as f64, (v as usize / n) as f64))
-            .collect();
-        let bump: Vec<f64> = cells
-            .iter()
-            .map(|&(i, j)| (pi * i / h).sin() * (pi * j / h).sin())
-            .collect();
-        let alternating: Vec<f64> = cells
-            .iter()
-            .map(|&(i, j)| if (i + j) as i64 % 2 == 0 { 1.0 } else { -1.0 })
-            .collect();
+        let (bump, alternating) = bump_and_alternating(&layout, n);
         // b = the bump; a = half the bump plus a large alternating field.
         let b = bump.clone();
         let a: Vec<f64> = bump
@@ -283,8 +279,7 @@ mod tests {
             .zip(&alternating)
             .map(|(x, r)| 0.5 * x + 2.0 * r)
             .collect();
-        let as_vector: Vec<[f64; 3]> = a.iter().map(|&x| [x, 0.0, 0.0]).collect();
-        let by_vector = filtered(filter, &as_vector).unwrap();
+        let by_vector = filtered(filter, &first_coordinate(&a)).unwrap();
         let by_scalar = filtered_scalar(filter, &a).unwrap();
         for (v, x) in by_vector.iter().zip(&by_scalar) {
             assert!((v[0] - x).abs() < 1e-14, "{v:?} vs {x}");
