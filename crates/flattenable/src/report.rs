@@ -74,7 +74,9 @@ pub struct PieceReport {
     pub corrections: usize,
     /// Smoothed steps taken (robust mode, every attempt; each also counts as an iteration of
     /// its attempt): low-pass filtered Gauss–Newton steps on a plateau near θ = 2π, where the
-    /// damped steps of a shallow piece gain < 1 % each.
+    /// damped steps of a shallow piece gain < 1 % each, and the smoothed jumps kept (where no
+    /// filtered step gains: a part of the smooth step, then plain steps; the messages say
+    /// how many were kept and undone).
     pub smoothed_steps: usize,
     /// Pull-backs towards the input taken by `Target::Detail` (robust mode; counted in
     /// `iterations`).

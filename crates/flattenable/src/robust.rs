@@ -1483,8 +1483,9 @@ enum SmoothedMove {
 /// its linear model's optimum; the unfolded one with the least merit if it gains
 /// `SMOOTH_MIN_GAIN`. Otherwise the jump: the step filtered by `JUMP_FILTER`, scaled to take
 /// out the residual's smooth part ([`smoothed_step::smooth_part_scale`]), halved while it
-/// folds. On a regular grid the filtered steps gain; on an irregular one the angle sums
-/// answer a smooth move with a rough residual as large as the smooth one removed, so only
+/// folds. On a regular grid of a smooth surface the filtered steps gain; on an irregular
+/// one (or a rough relief) the angle sums answer a smooth move with a rough residual as
+/// large as the smooth one removed, so only
 /// the jump, restored by the plain steps (which remove rough residuals well), gets off the
 /// plateau (docs/algorithms/flattenable.md, "Irregular shallow pieces: a smoothed jump").
 /// `None` when the factorisation or every filter fails or folds.
