@@ -574,6 +574,8 @@ fn run_inner(
                 refused,
             )
         });
+        // The state to go back to when a pull-back or a smoothed jump is undone below.
+        let mut undone: Option<Snapshot> = None;
         if let Some(undo) = decided
             && let Some(Restoring {
                 before,
@@ -588,16 +590,6 @@ fn run_inner(
             // target's path bit for bit (its stall and lift counts shifted by the iterations
             // spent).
             let spent = report.iterations - before.iterations;
-            Snapshot {
-                pos,
-                mu,
-                stiff,
-                best,
-                last_lift,
-                dead_zone,
-                area_goal,
-                ..
-            } = before.resumed(report.iterations, report.factorizations);
             // After a long pull-back, one more chance with short ones; after a short one, no
             // more (the detail target then ends where it stood before it). A long one that
             // already left θ_err within the short bound is the short one too (the same state,
@@ -611,14 +603,14 @@ fn run_inner(
             } else {
                 pull_backs = 0;
             }
-            layout.evaluate(&pos, &mut theta, &mut grad);
-            (err, f) = norm.merit(&theta, dead_zone);
             report
                 .messages
                 .push(format!("pull-back undone after {spent} iterations: {why}"));
+            undone = Some(before);
         }
-        // A smoothed jump under way: kept once the plain steps have brought the merit below
-        // where it left from, undone when they have not within their budget.
+        // A smoothed jump under way (never during a pull-back's restore): kept once the plain
+        // steps have brought the merit below where it left from, undone when they have not
+        // within their budget.
         if let Some(j) = &jump {
             let merit_before = norm.merit(&j.theta, dead_zone).1;
             if f <= (1.0 - SMOOTH_MIN_GAIN) * merit_before {
@@ -631,22 +623,24 @@ fn run_inner(
             } else if report.factorizations >= j.before.factorizations + JUMP_RESTORE_FACTORIZATIONS
                 && let Some(Jump { before, .. }) = jump.take()
             {
-                // Back to the state before it, as an undone pull-back is.
-                Snapshot {
-                    pos,
-                    mu,
-                    stiff,
-                    best,
-                    last_lift,
-                    dead_zone,
-                    area_goal,
-                    ..
-                } = before.resumed(report.iterations, report.factorizations);
-                layout.evaluate(&pos, &mut theta, &mut grad);
-                (err, f) = norm.merit(&theta, dead_zone);
                 jumps_undone += 1;
                 smooth_wait *= 2;
+                undone = Some(before);
             }
+        }
+        if let Some(before) = undone {
+            Snapshot {
+                pos,
+                mu,
+                stiff,
+                best,
+                last_lift,
+                dead_zone,
+                area_goal,
+                ..
+            } = before.resumed(report.iterations, report.factorizations);
+            layout.evaluate(&pos, &mut theta, &mut grad);
+            (err, f) = norm.merit(&theta, dead_zone);
         }
         // The first pull-back waits for the tolerance: the state before it is then the zero
         // target's result (the same path bit for bit), so holding its area and undoing what
