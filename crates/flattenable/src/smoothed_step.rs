@@ -32,10 +32,10 @@ pub(crate) const FILTER_STIFFNESS: [f64; 5] = [1.0, 4.0, 16.0, 64.0, 256.0];
 /// The filter of a smoothed jump, an index into `FILTER_STIFFNESS` (t = 16): it both smooths
 /// the step and measures the residual's smooth part ([`smooth_part_scale`]). On the jittered
 /// paraboloid z = 0.03 (x² + y²) at 200×200 (`JITTER=0.3 SHAPE=para … measure -- saddles`),
-/// which stalled at 1.9e-8, jumps with t = 16 and t = 64 both converged (75 and 77
-/// iterations); t = 16 leaves 13 % of the smooth residual in the model, t = 64 3 %, and
-/// raises the merit less (docs/algorithms/flattenable.md, "Irregular shallow pieces: a
-/// smoothed jump").
+/// which stalled at 1.9e-8, whole jumps (not the quarter taken now) with t = 16 and t = 64
+/// both converged (75 and 77 iterations); t = 16 leaves 13 % of the smooth residual in the
+/// model, t = 64 3 %, and raises the merit less (docs/algorithms/flattenable.md, "Irregular
+/// shallow pieces: a smoothed jump").
 pub(crate) const JUMP_FILTER: usize = 2;
 
 /// I + t L for a piece's interior vertices (L its graph Laplacian with the boundary held at
