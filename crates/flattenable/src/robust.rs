@@ -151,10 +151,12 @@ const MU_DOWN: f64 = 10.0;
 /// (and after twice as many again each time a try found nothing to take or its jump was
 /// undone). On the shallow paraboloids (`SHAPE=para`, A = 0.01–0.3 at 130–225
 /// vertices a side) the damped steps there gained 0.001–0.01 % each, a smoothed step 5–40 %:
-/// 19 of 20 converge where 12 did (docs/algorithms/flattenable.md, "Shallow pieces: a smoothed
-/// step"). The gate keeps every path that gains ≥ 1 % per step as it was: the caps, saddles,
-/// random pieces, body pieces and the bundled pipelines gave the same results to the printed
-/// digit (one 71k-face cap took a smoothed step: 65 → 66 factorisations, the same surface).
+/// 19 of 20 converged where 12 had, and with the jumps (`SmoothedMove::Jump`) all 20
+/// (docs/algorithms/flattenable.md, "Shallow pieces: a smoothed step" and "Irregular shallow
+/// pieces: a smoothed jump"). The gate keeps every path that gains ≥ 1 % per step as it was:
+/// the caps, saddles, random pieces, body pieces and the bundled pipelines gave the same
+/// results to the printed digit (one 71k-face cap tries: 66 → 68 factorisations, the same
+/// surface).
 /// Not farther from θ = 2π: the 100×100 saddle's slow phase and the scan-resolution body
 /// pieces at 2e-4–8e-4 gained ≤ 11 % per smoothed step and took longer paths.
 const SMOOTH_AFTER: usize = 5;
@@ -1486,13 +1488,13 @@ enum SmoothedMove {
 /// The smoothed try at `pos` (`smoothed_step.rs`): the Gauss–Newton step (damping
 /// `SMOOTH_MU`, one factorisation) filtered at every stiffness of `factors`, each scaled to
 /// its linear model's optimum; the unfolded one with the least merit if it gains
-/// `SMOOTH_STEP_MIN_GAIN`. Otherwise the jump: the step filtered by `JUMP_FILTER`, scaled to take
-/// out the residual's smooth part ([`smoothed_step::smooth_part_scale`]), halved while it
-/// folds. On a regular grid of a smooth surface the filtered steps gain; on an irregular
-/// one (or a rough relief) the angle sums answer a smooth move with a rough residual as
-/// large as the smooth one removed, so only
-/// the jump, restored by the plain steps (which remove rough residuals well), gets off the
-/// plateau (docs/algorithms/flattenable.md, "Irregular shallow pieces: a smoothed jump").
+/// `SMOOTH_STEP_MIN_GAIN`. Otherwise the jump: `JUMP_FRACTION` of the step filtered by
+/// `JUMP_FILTER` and scaled to take out the residual's smooth part
+/// ([`smoothed_step::smooth_part_scale`]), halved while it folds. On a regular grid of a
+/// smooth surface the filtered steps gain; on an irregular one (or a rough relief) the angle
+/// sums answer a smooth move with a rough residual as large as the smooth one removed, so
+/// only the jump, restored by the plain steps (which remove rough residuals well), gets off
+/// the plateau (docs/algorithms/flattenable.md, "Irregular shallow pieces: a smoothed jump").
 /// `None` when the factorisation or every filter fails or folds.
 fn smoothed_trial(
     piece: &Piece,
