@@ -82,7 +82,8 @@ pub enum FlattenableError {
     /// can be above the input's while the RMS is below it, so both are given with the
     /// input's.
     #[error(
-        "piece {piece} did not converge: best θ_err {best_theta_err:.3e} rad, RMS {best_theta_rms:.3e} (input {input_theta_err:.3e}, RMS {input_theta_rms:.3e}; tolerance {tolerance:.1e}) after {iterations} iterations: {reason}"
+        "piece {piece} did not converge: best θ_err {best_theta_err:.3e} rad, RMS {best_theta_rms:.3e} (input {input_theta_err:.3e}, RMS {input_theta_rms:.3e}; tolerance {tolerance:.1e}) after {iterations} iterations: {reason}{}",
+        least_flat(partial, *piece)
     )]
     NotConverged {
         piece: usize,
@@ -97,4 +98,19 @@ pub enum FlattenableError {
         /// non-converged pieces marked in the report).
         partial: Box<Processed>,
     },
+}
+
+/// Where the unconverged `piece` of `partial` is least flat, as a clause for the message
+/// (empty when its report has no interior vertex to name).
+fn least_flat(partial: &Processed, piece: usize) -> String {
+    let Some(p) = partial.report.pieces.iter().find(|p| p.piece == piece) else {
+        return String::new();
+    };
+    let (Some(v), Some([x, y, z])) = (p.worst_vertex, p.worst_vertex_position_mm) else {
+        return String::new();
+    };
+    format!(
+        " (least flat at input vertex {v} at ({x:.2}, {y:.2}, {z:.2}) mm; half of the remaining ‖θ − 2π‖² on {} of {} interior vertices, all within {:.2} mm of it)",
+        p.vertices_holding_half_residual, p.interior_vertices, p.half_residual_radius_mm
+    )
 }

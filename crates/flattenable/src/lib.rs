@@ -36,4 +36,4 @@ pub use options::{
 };
 pub use process::{AREA_TIE_PERCENT, Processed, process};
 pub use progress::{IterationDone, ProgressHook};
-pub use report::{CREASE_DEG, PieceReport, ProcessReport};
+pub use report::{CREASE_DEFECT_NEUTRAL_RAD, CREASE_DEG, CreaseKind, PieceReport, ProcessReport};

@@ -180,8 +180,7 @@ impl Piece {
             let q = beyond(r, dead_zone_rad);
             // A NaN θ is infinitely far from 2π: `f64::max` would skip it, and a piece whose
             // angles were all NaN would read as already flattenable.
-            let a = if r.is_nan() { f64::INFINITY } else { r.abs() };
-            (m.max(a), s + q * q)
+            (m.max(distance_from_flat(t)), s + q * q)
         })
     }
 
@@ -241,6 +240,8 @@ impl Piece {
         let crease = crate::report::CREASE_DEG.to_radians();
         let mut sharpest = (0.0f64, 0u32);
         report.creased_edges = 0;
+        // The ends of creased edges, to sum the input's angle defect under the crease.
+        let mut on_crease = vec![false; self.pos0.len()];
         for h in 0..3 * self.faces.len() as u32 {
             let Some(t) = self.topo.twin(h).filter(|&t| t > h) else {
                 continue;
@@ -252,23 +253,78 @@ impl Piece {
             }
             if grown > crease {
                 report.creased_edges += 1;
+                on_crease[self.topo.from_vertex(h).idx()] = true;
+                on_crease[self.topo.from_vertex(t).idx()] = true;
             }
         }
         report.max_crease_deg = sharpest.0.to_degrees();
+        report.creased_defect_rad = self
+            .layout
+            .interior
+            .iter()
+            .zip(theta0)
+            .filter(|(p, _)| on_crease[**p as usize])
+            .map(|(_, t)| TAU - t)
+            .sum();
+        report.sharpest_crease_position_mm =
+            (report.creased_edges > 0).then(|| self.pos0[sharpest.1 as usize]);
         if report.creased_edges > 0 {
             let at = self.vertex_map[sharpest.1 as usize];
+            let [x, y, z] = self.pos0[sharpest.1 as usize];
+            let kind = crate::report::CreaseKind::of(report.creased_defect_rad)
+                .map_or(String::new(), |k| format!(" ({})", k.advice()));
             report.messages.push(format!(
-                "the processed surface creases: {} edges bend by more than {:.0}° beyond the input's bend (up to {:.0}°, at input vertex {at}); the flattened piece folds there — a dart or a cut along that line keeps it smooth",
+                "the processed surface creases: {} edges bend by more than {:.0}° beyond the input's bend (up to {:.0}°, at input vertex {at} at ({x:.2}, {y:.2}, {z:.2}) mm), and the flattened piece folds there; the input's angle defect under the crease sums to {:+.3} rad{kind}",
                 report.creased_edges,
                 crate::report::CREASE_DEG,
-                report.max_crease_deg
+                report.max_crease_deg,
+                report.creased_defect_rad,
             ));
         }
+        self.locate_residual(&theta, report);
         report.min_angle_deg = corner_angles(positions, &self.faces)
             .iter()
             .flatten()
             .fold(f64::INFINITY, |m, &a| m.min(a))
             .to_degrees();
+    }
+
+    /// Fills where the remaining residual of interior `theta` lies: the worst vertex, its
+    /// input position, the fewest vertices holding half of ‖θ − 2π‖² and how far from the
+    /// worst they reach (ties in |θ − 2π| broken by the lower local index, so the answer is
+    /// deterministic).
+    fn locate_residual(&self, theta: &[f64], report: &mut PieceReport) {
+        let mut order: Vec<(f64, usize)> = theta
+            .iter()
+            .enumerate()
+            .map(|(i, &t)| (distance_from_flat(t), i))
+            .collect();
+        order.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        let Some(&(_, worst)) = order.first() else {
+            report.worst_vertex = None;
+            report.worst_vertex_position_mm = None;
+            report.vertices_holding_half_residual = 0;
+            report.half_residual_radius_mm = 0.0;
+            return;
+        };
+        let local = |i: usize| self.layout.interior[i] as usize;
+        let at = self.pos0[local(worst)];
+        report.worst_vertex = Some(self.vertex_map[local(worst)]);
+        report.worst_vertex_position_mm = Some(at);
+        let total: f64 = order.iter().map(|(r, _)| r * r).sum();
+        let (mut held, mut count, mut radius) = (0.0, 0, 0.0f64);
+        if total > 0.0 {
+            for &(r, i) in &order {
+                if held >= 0.5 * total {
+                    break;
+                }
+                held += r * r;
+                count += 1;
+                radius = radius.max(flatcut_mesh::vec3::dist(self.pos0[local(i)], at));
+            }
+        }
+        report.vertices_holding_half_residual = count;
+        report.half_residual_radius_mm = radius;
     }
 
     /// Total area of the piece at `positions`.
@@ -318,6 +374,13 @@ impl Piece {
             .map(|&p| flatcut_mesh::vec3::normalize(acc[p as usize]))
             .collect()
     }
+}
+
+/// |θ − 2π| of an interior angle sum, with NaN infinitely far (as in [`Piece::merit`]).
+#[inline]
+pub fn distance_from_flat(theta: f64) -> f64 {
+    let r = theta - TAU;
+    if r.is_nan() { f64::INFINITY } else { r.abs() }
 }
 
 /// The part of a residual `r` beyond ±`dead_zone_rad` (0 inside it; `r` itself, bit for bit,

@@ -462,7 +462,7 @@ fn run_piece(
         // angles; with the boundary fixed that needs wrinkles along it. Say so in the error
         // (stop_reason is part of NotConverged's message), not only in the report.
         let hint = format!(
-            "the piece has a negative total angle defect ({:.3} rad, saddle-like): with its boundary fixed it can only become flat by wrinkling near the boundary; a dart or a different cut may be needed",
+            "the piece has a negative total angle defect ({:.3} rad, saddle-like): with its boundary fixed it can only become flat by wrinkling near the boundary; it has more surface than a flat sheet spans, so a seam or gusset where it resists, or a different cut, helps, and a dart (which takes surface out) does not",
             report.input_total_defect_rad
         );
         report.stop_reason = format!("{}; {hint}", report.stop_reason);

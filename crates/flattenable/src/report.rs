@@ -12,6 +12,56 @@ use serde::Serialize;
 /// "Creases", for the values measured on smooth and pleated results.
 pub const CREASE_DEG: f64 = 30.0;
 
+/// A crease whose vertices' input angle defects sum to less than this in magnitude (rad)
+/// lies in nearly developable surface: at a working resolution of 5–10 mm the per-vertex
+/// defect of a smooth body is a few 1e-3 rad, so a crease of tens of edges there sums to
+/// a few hundredths of its noise.
+pub const CREASE_DEFECT_NEUTRAL_RAD: f64 = 0.05;
+
+/// The surface a crease lies in, read from the sign of the input's angle defect Σ (2π − θ)
+/// over the interior vertices of the creased edges ([`PieceReport::creased_defect_rad`]);
+/// it says which cut takes the crease away.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CreaseKind {
+    /// Angle excess (θ > 2π): the piece has more surface there than a flat sheet spans
+    /// around those vertices. A dart takes surface out and makes it worse; a seam there (or
+    /// a gusset let into a slit) gives the excess its own piece.
+    SaddleLike,
+    /// Angle deficit (θ < 2π): the sheet has too much; a dart takes it out.
+    DomeLike,
+    /// |Σ| below [`CREASE_DEFECT_NEUTRAL_RAD`]: the crease comes from the fixed boundary, not
+    /// from the curvature under it.
+    NearlyDevelopable,
+}
+
+impl CreaseKind {
+    /// The kind of a crease whose interior vertices sum to `creased_defect_rad`; `None` for
+    /// NaN (no input to read it from).
+    pub fn of(creased_defect_rad: f64) -> Option<Self> {
+        if creased_defect_rad.is_nan() {
+            None
+        } else if creased_defect_rad.abs() < CREASE_DEFECT_NEUTRAL_RAD {
+            Some(Self::NearlyDevelopable)
+        } else if creased_defect_rad < 0.0 {
+            Some(Self::SaddleLike)
+        } else {
+            Some(Self::DomeLike)
+        }
+    }
+
+    /// What a pattern engineer can do there, in a few words.
+    pub fn advice(self) -> &'static str {
+        match self {
+            Self::SaddleLike => "saddle-like there: a seam or gusset, not a dart",
+            Self::DomeLike => "dome-like there: a dart",
+            Self::NearlyDevelopable => {
+                "nearly developable there: the fixed seam forces it; move that seam"
+            }
+        }
+    }
+}
+
 /// The outcome of one connected component.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct PieceReport {
@@ -62,6 +112,24 @@ pub struct PieceReport {
     /// Interior edges whose bend grew by more than [`CREASE_DEG`]: where the flattenable
     /// surface creases (the one nearest a saddle is pleated) and the flattened piece folds.
     pub creased_edges: usize,
+    /// Σ (2π − θ) of the input over the interior vertices of the creased edges (rad; 0
+    /// without crease): negative where the crease lies in saddle-like surface. See
+    /// [`CreaseKind::of`].
+    pub creased_defect_rad: f64,
+    /// Input position (mm) of an end of the edge whose bend grew most, when an edge creased.
+    pub sharpest_crease_position_mm: Option<[f64; 3]>,
+    /// The interior vertex of largest |θ − 2π| in the returned positions (input numbering;
+    /// `None` without interior vertex): where an unconverged piece is least flat.
+    pub worst_vertex: Option<u32>,
+    /// Its input position (mm).
+    pub worst_vertex_position_mm: Option<[f64; 3]>,
+    /// The fewest interior vertices that hold half of the remaining ‖θ − 2π‖² (0 when it is
+    /// 0): a few means one spot resists, a large share of `interior_vertices` means the
+    /// residual is spread over the piece.
+    pub vertices_holding_half_residual: usize,
+    /// The largest input distance (mm) from the worst vertex to one of those vertices: whether
+    /// the spot that resists is small enough for one cut or dart.
+    pub half_residual_radius_mm: f64,
     /// Trial steps rejected by the merit test or the fold guards (robust mode).
     pub rejected_steps: usize,
     /// Rejected trials rescued by a fraction of the same step (no new factorisation;
@@ -129,4 +197,30 @@ pub struct ProcessReport {
     pub pieces: Vec<PieceReport>,
     /// Diagnostics of the whole call.
     pub messages: Vec<String>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crease_kind_follows_the_sign_beyond_the_neutral_band() {
+        let band = CREASE_DEFECT_NEUTRAL_RAD;
+        assert_eq!(CreaseKind::of(-0.61), Some(CreaseKind::SaddleLike));
+        assert_eq!(CreaseKind::of(-band), Some(CreaseKind::SaddleLike));
+        assert_eq!(
+            CreaseKind::of(-band * (1.0 - 1e-12)),
+            Some(CreaseKind::NearlyDevelopable)
+        );
+        assert_eq!(CreaseKind::of(0.0), Some(CreaseKind::NearlyDevelopable));
+        assert_eq!(
+            CreaseKind::of(band * (1.0 - 1e-12)),
+            Some(CreaseKind::NearlyDevelopable)
+        );
+        assert_eq!(CreaseKind::of(band), Some(CreaseKind::DomeLike));
+        assert_eq!(CreaseKind::of(0.94), Some(CreaseKind::DomeLike));
+        assert_eq!(CreaseKind::of(f64::NAN), None);
+        assert!(CreaseKind::SaddleLike.advice().contains("not a dart"));
+        assert!(CreaseKind::DomeLike.advice().contains("a dart"));
+    }
 }

@@ -4,7 +4,9 @@
 
 mod common;
 
-use flatcut_flattenable::{FlattenableError, Mode, ProcessOptions, Update, process};
+use flatcut_flattenable::{
+    CREASE_DEFECT_NEUTRAL_RAD, CreaseKind, FlattenableError, Mode, ProcessOptions, Update, process,
+};
 use flatcut_mesh::TriMesh;
 
 /// Concatenates meshes, shifting each by `dx · k` along x.
@@ -274,7 +276,10 @@ fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
 /// Largest growth of an interior edge's bend (angle between its faces' normals) from
 /// `input` to `output`, in degrees, computed here with acos of the normals' dot product
 /// (the library uses atan2), and the number of edges grown by more than `limit_deg`.
-fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usize) {
+/// The largest growth of an interior edge's bend (degrees, by acos), the edges grown by more
+/// than `limit_deg`, and the input angle defect summed over those edges' interior ends (the
+/// mesh crate's `angle_defects`).
+fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usize, f64) {
     use flatcut_mesh::geometry::face_normals;
     let topo = flatcut_mesh::Topology::build(input).unwrap();
     let (n0, n1) = (
@@ -288,6 +293,7 @@ fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usi
             .to_degrees()
     };
     let (mut max, mut count) = (0.0f64, 0);
+    let mut ends = std::collections::BTreeSet::new();
     for h in 0..3 * input.faces.len() as u32 {
         if let Some(t) = topo.twin(h).filter(|&t| t > h) {
             let (f, g) = (
@@ -296,10 +302,15 @@ fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usi
             );
             let grown = bend(&n1, f, g) - bend(&n0, f, g);
             max = max.max(grown);
-            count += usize::from(grown > limit_deg);
+            if grown > limit_deg {
+                count += 1;
+                ends.extend([topo.from_vertex(h).idx(), topo.from_vertex(t).idx()]);
+            }
         }
     }
-    (max, count)
+    let defects = flatcut_mesh::geometry::angle_defects(&input.positions, &input.faces, &topo);
+    let defect = ends.iter().filter_map(|&v| defects[v]).sum();
+    (max, count, defect)
 }
 
 #[test]
@@ -310,7 +321,12 @@ fn creases_of_the_result_are_measured_and_named() {
     for (mesh, creased) in [(common::sphere_cap(12), false), (common::saddle(12), true)] {
         let r = process(&mesh, &ProcessOptions::default()).unwrap();
         let p = &r.report.pieces[0];
-        let (max, count) = crease_growth(&mesh, &r.mesh, flatcut_flattenable::CREASE_DEG);
+        let (max, count, defect) = crease_growth(&mesh, &r.mesh, flatcut_flattenable::CREASE_DEG);
+        assert!(
+            (p.creased_defect_rad - defect).abs() < 1e-12,
+            "{} vs {defect}",
+            p.creased_defect_rad
+        );
         assert!(
             (p.max_crease_deg - max).abs() < 1e-6,
             "{} vs {max}",
@@ -328,14 +344,155 @@ fn creases_of_the_result_are_measured_and_named() {
                 "saddle: {max}° over {count} edges"
             );
             assert!(named, "{:?}", p.messages);
+            // The saddle creases where its input has an angle excess: a dart would take
+            // surface out where there is too much already, and the message says so.
+            assert!(defect < -CREASE_DEFECT_NEUTRAL_RAD, "{defect}");
+            assert_eq!(CreaseKind::of(defect), Some(CreaseKind::SaddleLike));
+            assert!(
+                p.messages.iter().any(|m| m.contains("not a dart")),
+                "{:?}",
+                p.messages
+            );
+            assert_sharpest_crease_position(&mesh, &r.mesh, p.sharpest_crease_position_mm);
         } else {
             assert!(max < 15.0 && count == 0, "cap: {max}° over {count} edges");
             assert!(!named, "{:?}", p.messages);
+            assert_eq!((defect, p.creased_defect_rad), (0.0, 0.0));
+            assert_eq!(p.sharpest_crease_position_mm, None);
         }
         // The turn of the normals against the input, the other measure: the cap's faces
         // turn by ~22°, the saddle's by more than the crease limit.
         assert!(p.max_normal_turn_deg > 5.0 && p.max_normal_turn_deg < 90.0);
     }
+}
+
+/// The sharpest crease's position is an input end of an edge whose growth of bend is the
+/// largest (within 1e-9°, ties taken on either side).
+fn assert_sharpest_crease_position(input: &TriMesh, output: &TriMesh, at: Option<[f64; 3]>) {
+    use flatcut_mesh::geometry::face_normals;
+    let at = at.expect("a creased piece names its sharpest crease");
+    let topo = flatcut_mesh::Topology::build(input).unwrap();
+    let (n0, n1) = (
+        face_normals(&input.positions, &input.faces),
+        face_normals(&output.positions, &output.faces),
+    );
+    let bend = |n: &[[f64; 3]], f: usize, g: usize| {
+        flatcut_mesh::vec3::dot(n[f], n[g]).clamp(-1.0, 1.0).acos()
+    };
+    let mut edges = Vec::new();
+    for h in 0..3 * input.faces.len() as u32 {
+        if let Some(t) = topo.twin(h).filter(|&t| t > h) {
+            let (f, g) = (
+                flatcut_mesh::Topology::face(h).idx(),
+                flatcut_mesh::Topology::face(t).idx(),
+            );
+            let ends = [topo.from_vertex(h).idx(), topo.from_vertex(t).idx()];
+            edges.push((bend(&n1, f, g) - bend(&n0, f, g), ends));
+        }
+    }
+    let max = edges.iter().map(|e| e.0).fold(f64::MIN, f64::max);
+    assert!(
+        edges.iter().any(|(grown, ends)| {
+            *grown >= max - 1e-9f64.to_radians() && ends.iter().any(|&v| input.positions[v] == at)
+        }),
+        "{at:?} is not an end of an edge grown by the most ({}°)",
+        max.to_degrees()
+    );
+}
+
+/// A piece that does not converge names where it is least flat: the interior vertex of
+/// largest |θ − 2π| (in input numbering, on the second of two pieces), its input position,
+/// and the fewest vertices holding half of the remaining ‖θ − 2π‖², all recounted here from
+/// the returned mesh's angle sums (the mesh crate's, not the solver's).
+#[test]
+fn an_unconverged_piece_names_where_it_is_least_flat() {
+    // A flat disk first (already flattenable: converged after no iteration), so that the
+    // error is the saddle's and its vertices are numbered after the disk's.
+    let disk = flatcut_mesh::shapes::planar_disk(1.0, 6);
+    let saddle = common::saddle(14);
+    let mesh = concat(&[disk.clone(), saddle], 3.0);
+    let opts = ProcessOptions {
+        max_iterations: Some(2),
+        coarse_to_fine: flatcut_flattenable::CoarseToFine {
+            levels: 0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let Err(FlattenableError::NotConverged { partial, .. }) = process(&mesh, &opts) else {
+        panic!("two iterations do not flatten these pieces");
+    };
+    let message = process(&mesh, &opts).err().unwrap().to_string();
+    let p = &partial.report.pieces[1];
+    let topo = flatcut_mesh::Topology::build(&partial.mesh).unwrap();
+    let defects =
+        flatcut_mesh::geometry::angle_defects(&partial.mesh.positions, &partial.mesh.faces, &topo);
+    // |θ − 2π| per interior vertex of the second piece (global numbering).
+    let first = disk.vertex_count();
+    let mut residual: Vec<(f64, usize)> = defects
+        .iter()
+        .enumerate()
+        .skip(first)
+        .filter_map(|(v, d)| d.map(|d| (d.abs(), v)))
+        .collect();
+    assert_eq!(residual.len(), p.interior_vertices);
+    residual.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let worst = p.worst_vertex.unwrap() as usize;
+    // The solver's θ and the mesh crate's differ in round-off only.
+    assert!(worst >= first, "{worst} is not on the second piece");
+    assert!(
+        (defects[worst].unwrap().abs() - residual[0].0).abs() <= 1e-12,
+        "{worst}: {:?} vs {:?}",
+        defects[worst],
+        residual[0]
+    );
+    assert!((residual[0].0 - p.final_theta_err).abs() <= 1e-12);
+    assert_eq!(p.worst_vertex_position_mm, Some(mesh.positions[worst]));
+    // The fewest vertices holding half of the squared residual.
+    let total: f64 = residual.iter().map(|r| r.0 * r.0).sum();
+    let mut held = 0.0;
+    let k = residual
+        .iter()
+        .position(|r| {
+            held += r.0 * r.0;
+            held >= 0.5 * total
+        })
+        .unwrap()
+        + 1;
+    assert!(
+        p.vertices_holding_half_residual.abs_diff(k) <= 1,
+        "{} vs {k}",
+        p.vertices_holding_half_residual
+    );
+    assert!(k > 1 && k < p.interior_vertices / 2, "{k}");
+    // Their reach from the worst vertex, bracketed by the recount with a vertex more or less
+    // (round-off may order near-ties differently).
+    let at = mesh.positions[worst];
+    let reach = |n: usize| {
+        residual[..n]
+            .iter()
+            .map(|r| flatcut_mesh::vec3::dist(mesh.positions[r.1], at))
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        p.half_residual_radius_mm >= reach(k - 1) - 1e-12
+            && p.half_residual_radius_mm <= reach(k + 1) + 1e-12,
+        "{} not in [{}, {}]",
+        p.half_residual_radius_mm,
+        reach(k - 1),
+        reach(k + 1)
+    );
+    assert!(
+        message.contains(&format!("least flat at input vertex {worst} at (")),
+        "{message}"
+    );
+    assert!(
+        message.contains(&format!(
+            "on {} of {} interior vertices",
+            p.vertices_holding_half_residual, p.interior_vertices
+        )),
+        "{message}"
+    );
 }
 
 /// A piece whose input already has θ = 2π within the tolerance (a cylinder strip, a planar
