@@ -62,7 +62,7 @@ fn piece_line(o: &mut String, r: &Report) {
     for p in &r.pieces {
         outln!(
             o,
-            "  {:<16} {:>7} faces  θ_err {:.2e} → {:.2e} rad ({} it{})  max strain {:.2e}  E_h p95 {:.2e}  {:.1} × {:.1} mm{}",
+            "  {:<16} {:>7} faces  θ_err {:.2e} → {:.2e} rad ({} it{})  max strain {:.2e}  E_h p95 {:.2e}  {:.1} × {:.1} mm{}{}",
             p.name,
             p.faces,
             p.process.theta_err_before,
@@ -81,9 +81,20 @@ fn piece_line(o: &mut String, r: &Report) {
                 format!("  {} FLIPPED faces", p.flatten.flipped_faces)
             } else {
                 String::new()
-            }
+            },
+            crease_note(&p.process)
         );
     }
+}
+
+/// "  creased up to N° (kind there: what helps)" for a piece whose processed surface creases.
+fn crease_note(p: &flatcut_pipeline::report::ProcessSummary) -> String {
+    if p.creased_edges == 0 {
+        return String::new();
+    }
+    let kind = flatcut_flattenable::CreaseKind::of(p.creased_defect_rad)
+        .map_or(String::new(), |k| format!(" ({})", k.advice()));
+    format!("  creased up to {:.0}°{kind}", p.max_crease_deg)
 }
 
 /// Runs `flatcut run`.

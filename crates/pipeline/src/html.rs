@@ -302,8 +302,11 @@ figcaption{{text-align:center;font-size:12px}}.piece{{border-top:1px solid #ccc;
             p.process.area_change_percent,
             if p.process.creased_edges > 0 {
                 format!(
-                    "{:.0} ({} edges)",
-                    p.process.max_crease_deg, p.process.creased_edges
+                    "{:.0} ({} edges{})",
+                    p.process.max_crease_deg,
+                    p.process.creased_edges,
+                    flatcut_flattenable::CreaseKind::of(p.process.creased_defect_rad)
+                        .map_or(String::new(), |k| format!("; {}", esc(k.advice())))
                 )
             } else {
                 format!("{:.0}", p.process.max_crease_deg)

@@ -180,6 +180,14 @@ pub struct ProcessSummary {
     /// Edges whose bend grew by more than `flatcut_flattenable::CREASE_DEG`: where the
     /// processed surface creases and the flattened piece folds.
     pub creased_edges: usize,
+    /// The input's Σ (2π − θ) under the creased edges (rad): negative in saddle-like surface,
+    /// where a seam or gusset helps and a dart does not (`flatcut_flattenable::CreaseKind`).
+    pub creased_defect_rad: f64,
+    /// Where the bend grew most (input position, mm), when an edge creased.
+    pub sharpest_crease_position_mm: Option<[f64; 3]>,
+    /// The input position (mm) of the interior vertex farthest from θ = 2π after processing:
+    /// where an unconverged piece resists.
+    pub least_flat_position_mm: Option<[f64; 3]>,
     /// Why it stopped.
     pub stop_reason: String,
     /// θ_err of the input and after every accepted iteration (rad): the convergence plot.

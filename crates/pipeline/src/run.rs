@@ -704,8 +704,13 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         let r = pr.processed.report.pieces.first();
         let spec = piece.spec.map(|i| p.spec.pieces[i].get_ref());
         if !pr.converged {
+            let at = r
+                .and_then(|r| r.worst_vertex_position_mm)
+                .map_or(String::new(), |[x, y, z]| {
+                    format!(", least flat at ({x:.1}, {y:.1}, {z:.1}) mm")
+                });
             warnings.push(format!(
-                "piece {:?}: processing did not reach θ_err ≤ {:.1e} rad (best {:.3e} rad); the best unfolded state was flattened",
+                "piece {:?}: processing did not reach θ_err ≤ {:.1e} rad (best {:.3e} rad{at}); the best unfolded state was flattened",
                 piece.name,
                 p.spec.process.tolerance_rad,
                 pr.processed.report.final_theta_err
@@ -746,6 +751,9 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
                 max_normal_turn_deg: pr.processed.report.max_normal_turn_deg,
                 max_crease_deg: pr.processed.report.max_crease_deg,
                 creased_edges: pr.processed.report.creased_edges,
+                creased_defect_rad: r.map_or(0.0, |r| r.creased_defect_rad),
+                sharpest_crease_position_mm: r.and_then(|r| r.sharpest_crease_position_mm),
+                least_flat_position_mm: r.and_then(|r| r.worst_vertex_position_mm),
                 stop_reason: r.map(|r| r.stop_reason.clone()).unwrap_or_default(),
                 theta_err_history: r.map(|r| r.theta_err.clone()).unwrap_or_default(),
             },
