@@ -703,15 +703,18 @@ fn speed() {
     ];
     for n in sizes {
         let mesh = common::bench_cap(n);
+        let at_input = common::AtInput::new(&mesh);
         let common::AtInput {
             layout,
             theta,
             grad,
-            scale,
-            mut normal,
             mean_diagonal: m,
-        } = common::AtInput::new(&mesh);
-        let metric = flatcut_flattenable::least_norm::Metric::isotropic(&scale);
+            ..
+        } = &at_input;
+        let m = *m;
+        // A copy to assemble into (the step cost below factors the input's).
+        let mut normal = at_input.normal.clone();
+        let metric = at_input.metric();
         // Best of 20, or BEST_OF (the machine is shared: the minimum is the least disturbed).
         let best_of_count: usize = env_or("BEST_OF", 20);
         let best_of = |f: &mut dyn FnMut()| {
@@ -745,7 +748,7 @@ fn speed() {
         }
         let mut x = theta.clone();
         let solve = best_of(&mut || layout.solve(&fac, &mut x, 1));
-        let assemble = best_of(&mut || layout.normal_matrix(&grad, &metric, &mut normal));
+        let assemble = best_of(&mut || layout.normal_matrix(grad, &metric, &mut normal));
         let (mut th, mut gr) = (theta.clone(), grad.clone());
         let eval = best_of(&mut || layout.evaluate(&mesh.positions, &mut th, &mut gr));
         println!(
@@ -794,48 +797,21 @@ fn speed() {
             }
             let (r, ok) = rep.unwrap();
             let p = &r.pieces[0];
-            // STEP_RATIO=1 (with C2F_LEVELS=0): what a step costs against one Cholesky with
-            // the three timed in turn, rep by rep — a Cholesky, the set-up alone
-            // (`max_iterations` 0), the whole run — and the minimum of each kept, so that a
-            // shared machine's slow spells fall on all three alike (timed apart, the
-            // Cholesky's best varied 1.2–2.0 ms between invocations on one machine).
+            // STEP_RATIO=1 (with C2F_LEVELS=0): what a step costs against one Cholesky
+            // (`AtInput::step_cost`: the four timed in turn, their minima).
             if std::env::var_os("STEP_RATIO").is_some() && p.factorizations > 0 {
-                let set_up = ProcessOptions {
-                    max_iterations: Some(0),
-                    ..opts.clone()
-                };
-                let (mut chol_min, mut faer_min, mut set_up_min, mut run_min) =
-                    (f64::INFINITY, f64::INFINITY, f64::INFINITY, f64::INFINITY);
-                let mut buffers = layout.new_factor().unwrap();
-                for _ in 0..reps {
-                    let t = std::time::Instant::now();
-                    layout
-                        .refactor(&mut buffers, &normal, 1e-3 * m, None)
-                        .unwrap();
-                    chol_min = chol_min.min(t.elapsed().as_secs_f64());
-                    let t = std::time::Instant::now();
-                    layout
-                        .refactor_with_faer(&mut buffers, &normal, 1e-3 * m, None)
-                        .unwrap();
-                    faer_min = faer_min.min(t.elapsed().as_secs_f64());
-                    let t = std::time::Instant::now();
-                    std::hint::black_box(process(&mesh, &set_up).is_ok());
-                    set_up_min = set_up_min.min(t.elapsed().as_secs_f64());
-                    let t = std::time::Instant::now();
-                    std::hint::black_box(process(&mesh, &opts).is_ok());
-                    run_min = run_min.min(t.elapsed().as_secs_f64());
-                }
+                let cost = at_input.step_cost(&mesh, &opts, reps);
                 // Against faer's numeric factorisation (the "one sparse Cholesky")
                 // and against the run's own.
-                let per_step = (run_min - set_up_min) / p.factorizations as f64;
+                let per_step = cost.per_factorization(p.factorizations);
                 println!(
                     "    interleaved minima: Cholesky {:.3} ms (faer's {:.3} ms), set-up {:.2} ms, run {:.2} ms; per factorisation after the set-up {:.2}x faer's Cholesky ({:.2}x the run's own)",
-                    chol_min * 1e3,
-                    faer_min * 1e3,
-                    set_up_min * 1e3,
-                    run_min * 1e3,
-                    per_step / faer_min,
-                    per_step / chol_min
+                    cost.cholesky * 1e3,
+                    cost.faer_cholesky * 1e3,
+                    cost.set_up * 1e3,
+                    cost.run * 1e3,
+                    per_step / cost.faer_cholesky,
+                    per_step / cost.cholesky
                 );
             }
             for t in totals.iter_mut().filter(|t| t.0 == target) {

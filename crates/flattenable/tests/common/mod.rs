@@ -41,6 +41,71 @@ impl AtInput {
     pub fn metric(&self) -> Metric<'_> {
         Metric::isotropic(&self.scale)
     }
+
+    /// What a step of `process(mesh, opts)` costs against one Cholesky of this A Aᵀ (at μ =
+    /// 1e-3 × its mean diagonal): four things timed in turn, `reps` times — our numeric
+    /// factorisation, faer's, the piece's set-up alone (`max_iterations` 0) and the whole
+    /// run — and the minimum of each kept, so that a shared machine's slow spells fall on
+    /// all four alike (timed apart, one Cholesky's best varied 1.2–2.0 ms between
+    /// invocations on one machine). Seconds.
+    pub fn step_cost(
+        &self,
+        mesh: &TriMesh,
+        opts: &flatcut_flattenable::ProcessOptions,
+        reps: usize,
+    ) -> StepCost {
+        let set_up = flatcut_flattenable::ProcessOptions {
+            max_iterations: Some(0),
+            ..opts.clone()
+        };
+        let shift = 1e-3 * self.mean_diagonal;
+        let mut cost = StepCost {
+            cholesky: f64::INFINITY,
+            faer_cholesky: f64::INFINITY,
+            set_up: f64::INFINITY,
+            run: f64::INFINITY,
+        };
+        let mut buffers = self.layout.new_factor().unwrap();
+        let min_of = |best: &mut f64, f: &mut dyn FnMut()| {
+            let t = std::time::Instant::now();
+            f();
+            *best = best.min(t.elapsed().as_secs_f64());
+        };
+        for _ in 0..reps {
+            min_of(&mut cost.cholesky, &mut || {
+                self.layout
+                    .refactor(&mut buffers, &self.normal, shift, None)
+                    .unwrap();
+            });
+            min_of(&mut cost.faer_cholesky, &mut || {
+                self.layout
+                    .refactor_with_faer(&mut buffers, &self.normal, shift, None)
+                    .unwrap();
+            });
+            min_of(&mut cost.set_up, &mut || {
+                std::hint::black_box(flatcut_flattenable::process(mesh, &set_up).is_ok());
+            });
+            min_of(&mut cost.run, &mut || {
+                std::hint::black_box(flatcut_flattenable::process(mesh, opts).is_ok());
+            });
+        }
+        cost
+    }
+}
+
+/// Minima of [`AtInput::step_cost`] (seconds).
+pub struct StepCost {
+    pub cholesky: f64,
+    pub faer_cholesky: f64,
+    pub set_up: f64,
+    pub run: f64,
+}
+
+impl StepCost {
+    /// A factorisation's share of the run after its set-up, for a run of `factorizations`.
+    pub fn per_factorization(&self, factorizations: usize) -> f64 {
+        (self.run - self.set_up) / factorizations.max(1) as f64
+    }
 }
 
 /// N×N vertices on [−half, half]², z = height(x, y), faces counter-clockwise from +z.
