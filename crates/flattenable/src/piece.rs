@@ -258,14 +258,18 @@ impl Piece {
             }
         }
         report.max_crease_deg = sharpest.0.to_degrees();
-        report.creased_defect_rad = self
-            .layout
-            .interior
-            .iter()
-            .zip(theta0)
-            .filter(|(p, _)| on_crease[**p as usize])
-            .map(|(_, t)| TAU - t)
-            .sum();
+        // (A float sum of nothing is −0.0, which would read "-0.0" in the JSON.)
+        report.creased_defect_rad = if report.creased_edges == 0 {
+            0.0
+        } else {
+            self.layout
+                .interior
+                .iter()
+                .zip(theta0)
+                .filter(|(p, _)| on_crease[**p as usize])
+                .map(|(_, t)| TAU - t)
+                .sum()
+        };
         report.sharpest_crease_position_mm =
             (report.creased_edges > 0).then(|| self.pos0[sharpest.1 as usize]);
         if report.creased_edges > 0 {
