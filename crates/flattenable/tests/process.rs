@@ -234,14 +234,7 @@ fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
     };
     let rough = common::grid(12, 0.5, |x, y| 0.3 * (x * x - y * y) + noise(x, y));
     let smooth = common::saddle(12);
-    let opts = ProcessOptions {
-        max_iterations: Some(1),
-        coarse_to_fine: flatcut_flattenable::CoarseToFine {
-            levels: 0,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
+    let opts = cut_off_after(1);
     let messages = |mesh| match process(mesh, &opts) {
         Err(FlattenableError::NotConverged { partial, .. }) => {
             partial.report.pieces[0].messages.clone()
@@ -276,10 +269,22 @@ fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
 /// Largest growth of an interior edge's bend (angle between its faces' normals) from
 /// `input` to `output`, in degrees, computed here with acos of the normals' dot product
 /// (the library uses atan2), and the number of edges grown by more than `limit_deg`.
-/// The largest growth of an interior edge's bend (degrees, by acos), the edges grown by more
-/// than `limit_deg`, and the input angle defect summed over those edges' interior ends (the
-/// mesh crate's `angle_defects`).
-fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usize, f64) {
+/// The default options with a direct solve cut off after `iterations`, so that a piece stops
+/// unconverged.
+fn cut_off_after(iterations: usize) -> ProcessOptions {
+    ProcessOptions {
+        max_iterations: Some(iterations),
+        coarse_to_fine: flatcut_flattenable::CoarseToFine {
+            levels: 0,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// Per interior edge, the growth of its bend from `input` to `output` (degrees, by acos of
+/// the normals' dot product) and its two ends.
+fn bend_growths(input: &TriMesh, output: &TriMesh) -> Vec<(f64, [usize; 2])> {
     use flatcut_mesh::geometry::face_normals;
     let topo = flatcut_mesh::Topology::build(input).unwrap();
     let (n0, n1) = (
@@ -292,25 +297,31 @@ fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usi
             .acos()
             .to_degrees()
     };
-    let (mut max, mut count) = (0.0f64, 0);
-    let mut ends = std::collections::BTreeSet::new();
-    for h in 0..3 * input.faces.len() as u32 {
-        if let Some(t) = topo.twin(h).filter(|&t| t > h) {
+    (0..3 * input.faces.len() as u32)
+        .filter_map(|h| {
+            let t = topo.twin(h).filter(|&t| t > h)?;
             let (f, g) = (
                 flatcut_mesh::Topology::face(h).idx(),
                 flatcut_mesh::Topology::face(t).idx(),
             );
-            let grown = bend(&n1, f, g) - bend(&n0, f, g);
-            max = max.max(grown);
-            if grown > limit_deg {
-                count += 1;
-                ends.extend([topo.from_vertex(h).idx(), topo.from_vertex(t).idx()]);
-            }
-        }
-    }
+            let ends = [topo.from_vertex(h).idx(), topo.from_vertex(t).idx()];
+            Some((bend(&n1, f, g) - bend(&n0, f, g), ends))
+        })
+        .collect()
+}
+
+/// The largest growth of an interior edge's bend (degrees), the edges grown by more than
+/// `limit_deg`, and the input angle defect summed over those edges' interior ends (the mesh
+/// crate's `angle_defects`).
+fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usize, f64) {
+    let growths = bend_growths(input, output);
+    let max = growths.iter().map(|g| g.0).fold(0.0, f64::max);
+    let creased: Vec<_> = growths.iter().filter(|g| g.0 > limit_deg).collect();
+    let ends: std::collections::BTreeSet<usize> = creased.iter().flat_map(|g| g.1).collect();
+    let topo = flatcut_mesh::Topology::build(input).unwrap();
     let defects = flatcut_mesh::geometry::angle_defects(&input.positions, &input.faces, &topo);
     let defect = ends.iter().filter_map(|&v| defects[v]).sum();
-    (max, count, defect)
+    (max, creased.len(), defect)
 }
 
 #[test]
@@ -394,34 +405,14 @@ fn creases_of_the_result_are_measured_and_named() {
 /// The sharpest crease's position is an input end of an edge whose growth of bend is the
 /// largest (within 1e-9°, ties taken on either side).
 fn assert_sharpest_crease_position(input: &TriMesh, output: &TriMesh, at: Option<[f64; 3]>) {
-    use flatcut_mesh::geometry::face_normals;
     let at = at.expect("a creased piece names its sharpest crease");
-    let topo = flatcut_mesh::Topology::build(input).unwrap();
-    let (n0, n1) = (
-        face_normals(&input.positions, &input.faces),
-        face_normals(&output.positions, &output.faces),
-    );
-    let bend = |n: &[[f64; 3]], f: usize, g: usize| {
-        flatcut_mesh::vec3::dot(n[f], n[g]).clamp(-1.0, 1.0).acos()
-    };
-    let mut edges = Vec::new();
-    for h in 0..3 * input.faces.len() as u32 {
-        if let Some(t) = topo.twin(h).filter(|&t| t > h) {
-            let (f, g) = (
-                flatcut_mesh::Topology::face(h).idx(),
-                flatcut_mesh::Topology::face(t).idx(),
-            );
-            let ends = [topo.from_vertex(h).idx(), topo.from_vertex(t).idx()];
-            edges.push((bend(&n1, f, g) - bend(&n0, f, g), ends));
-        }
-    }
-    let max = edges.iter().map(|e| e.0).fold(f64::MIN, f64::max);
+    let growths = bend_growths(input, output);
+    let max = growths.iter().map(|g| g.0).fold(f64::MIN, f64::max);
     assert!(
-        edges.iter().any(|(grown, ends)| {
-            *grown >= max - 1e-9f64.to_radians() && ends.iter().any(|&v| input.positions[v] == at)
+        growths.iter().any(|(grown, ends)| {
+            *grown >= max - 1e-9 && ends.iter().any(|&v| input.positions[v] == at)
         }),
-        "{at:?} is not an end of an edge grown by the most ({}°)",
-        max.to_degrees()
+        "{at:?} is not an end of an edge grown by the most ({max}°)"
     );
 }
 
@@ -436,14 +427,7 @@ fn an_unconverged_piece_names_where_it_is_least_flat() {
     let disk = flatcut_mesh::shapes::planar_disk(1.0, 6);
     let saddle = common::saddle(14);
     let mesh = concat(&[disk.clone(), saddle], 3.0);
-    let opts = ProcessOptions {
-        max_iterations: Some(2),
-        coarse_to_fine: flatcut_flattenable::CoarseToFine {
-            levels: 0,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
+    let opts = cut_off_after(2);
     let Err(FlattenableError::NotConverged { partial, .. }) = process(&mesh, &opts) else {
         panic!("two iterations do not flatten these pieces");
     };
