@@ -363,6 +363,25 @@ fn wetsuit_demo_cuts_eight_flattenable_disks_whose_seams_match_in_2d() {
         assert!(p.flatten.max_edge_strain <= 1e-4, "{p:?}");
         assert_eq!(p.flatten.flipped_faces, 0, "{}", p.name);
     }
+    // The README's caption: the four upper pieces crease, each in saddle-like surface (the
+    // form's angle defect under the crease is negative), where a seam or gusset helps and a
+    // dart does not; the lower pieces stay smooth.
+    for p in &r.pieces {
+        let kind = flatcut_flattenable::CreaseKind::of(p.process.creased_defect_rad);
+        if p.name.ends_with("-upper") {
+            assert!(p.process.creased_edges > 0, "{p:?}");
+            assert_eq!(
+                kind,
+                Some(flatcut_flattenable::CreaseKind::SaddleLike),
+                "{}: {}",
+                p.name,
+                p.process.creased_defect_rad
+            );
+            assert!(p.process.sharpest_crease_position_mm.is_some());
+        } else {
+            assert_eq!(p.process.creased_edges, 0, "{p:?}");
+        }
+    }
     // Every seam is measured on both mates, which agree in 2D to 0.5 mm and with the 3D
     // length (processing never moves the boundary; flattening keeps edge lengths).
     assert!(r.seam_table.len() >= 8, "{}", r.seam_table.len());
