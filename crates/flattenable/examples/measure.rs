@@ -443,6 +443,32 @@ fn real() {
         if std::env::var("C2F").is_ok() {
             println!("    {:?}", p.messages);
         }
+        if let (false, Some(v), Some(at)) =
+            (p.converged, p.worst_vertex, p.worst_vertex_position_mm)
+        {
+            // Where it resists, against the piece's size (the bounding box's diagonal).
+            let (lo, hi) = mesh.positions.iter().fold(
+                ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+                |(lo, hi), q| {
+                    (
+                        [0, 1, 2].map(|c| lo[c].min(q[c])),
+                        [0, 1, 2].map(|c| hi[c].max(q[c])),
+                    )
+                },
+            );
+            let diagonal = flatcut_mesh::vec3::dist(lo, hi);
+            println!(
+                "    least flat at vertex {v} ({:.2}, {:.2}, {:.2}); half of ‖θ − 2π‖² on {} of {} interior vertices ({:.1} %), within {:.2} mm = {:.0} % of the diagonal",
+                at[0],
+                at[1],
+                at[2],
+                p.vertices_holding_half_residual,
+                p.interior_vertices,
+                100.0 * p.vertices_holding_half_residual as f64 / p.interior_vertices.max(1) as f64,
+                p.half_residual_radius_mm,
+                100.0 * p.half_residual_radius_mm / diagonal
+            );
+        }
         if std::env::var("DIAG").is_ok() {
             diag(&mesh, &r.mesh);
         }
