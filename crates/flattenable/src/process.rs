@@ -469,7 +469,7 @@ fn run_piece(
         report.messages.push(hint);
     } else if report.input_total_defect_rad > LARGE_TOTAL_DEFECT_RAD && !report.converged {
         let hint = format!(
-            "the piece carries a total angle defect of {:.3} rad (a hemisphere carries 2π): a cup- or cap-like piece whose fixed boundary is short for its area can only become flat by crumpling; cut it into smaller pieces or add darts",
+            "the piece carries a total angle defect of {:.3} rad (a hemisphere carries 2π): a cup- or cap-like piece whose fixed boundary is short for its area can only become flat by crumpling; cut it into smaller pieces or add darts in its dome-like parts",
             report.input_total_defect_rad
         );
         report.stop_reason = format!("{}; {hint}", report.stop_reason);

@@ -50,13 +50,15 @@ impl CreaseKind {
         }
     }
 
-    /// What a pattern engineer can do there, in a few words.
+    /// What a pattern engineer can do there, in a few words. Local to the crease: a piece
+    /// that is cup-like as a whole (its total defect's hint asks for darts) can crease in a
+    /// saddle-like part of it, where a dart does not help.
     pub fn advice(self) -> &'static str {
         match self {
-            Self::SaddleLike => "saddle-like there: a seam or gusset, not a dart",
-            Self::DomeLike => "dome-like there: a dart",
+            Self::SaddleLike => "saddle-like under the crease: a seam or gusset there, not a dart",
+            Self::DomeLike => "dome-like under the crease: a dart there",
             Self::NearlyDevelopable => {
-                "nearly developable there: the fixed seam forces it; move that seam"
+                "nearly developable under the crease: the fixed seam forces it; move that seam"
             }
         }
     }
