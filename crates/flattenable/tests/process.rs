@@ -428,10 +428,11 @@ fn an_unconverged_piece_names_where_it_is_least_flat() {
     let saddle = common::saddle(14);
     let mesh = concat(&[disk.clone(), saddle], 3.0);
     let opts = cut_off_after(2);
-    let Err(FlattenableError::NotConverged { partial, .. }) = process(&mesh, &opts) else {
-        panic!("two iterations do not flatten these pieces");
+    let error = process(&mesh, &opts).err().unwrap();
+    let message = error.to_string();
+    let FlattenableError::NotConverged { partial, .. } = error else {
+        panic!("two iterations do not flatten these pieces: {message}");
     };
-    let message = process(&mesh, &opts).err().unwrap().to_string();
     let p = &partial.report.pieces[1];
     let topo = flatcut_mesh::Topology::build(&partial.mesh).unwrap();
     let defects =
