@@ -117,7 +117,7 @@ fn bench(c: &mut Criterion) {
             chol * 1e3,
         );
         // A step alone: the whole-run ratio above includes the set-up and the coarse levels
-        // (16× one Cholesky at 242 faces), so the issue's "an iteration within 2× of one
+        // (35× one Cholesky at 242 faces on the thirty-second session's host), so the issue's "an iteration within 2× of one
         // sparse Cholesky" is read on the direct solve, its set-up subtracted (minima of
         // five, timed in turn with faer's numeric Cholesky of the same A Aᵀ).
         if faces < 50_000 {

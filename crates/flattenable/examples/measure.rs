@@ -447,16 +447,7 @@ fn real() {
             (p.converged, p.worst_vertex, p.worst_vertex_position_mm)
         {
             // Where it resists, against the piece's size (the bounding box's diagonal).
-            let (lo, hi) = mesh.positions.iter().fold(
-                ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-                |(lo, hi), q| {
-                    (
-                        [0, 1, 2].map(|c| lo[c].min(q[c])),
-                        [0, 1, 2].map(|c| hi[c].max(q[c])),
-                    )
-                },
-            );
-            let diagonal = flatcut_mesh::vec3::dist(lo, hi);
+            let diagonal = mesh.diagonal();
             println!(
                 "    least flat at vertex {v} ({:.2}, {:.2}, {:.2}); half of ‖θ − 2π‖² on {} of {} interior vertices ({:.1} %), within {:.2} mm = {:.0} % of the diagonal",
                 at[0],

@@ -284,9 +284,12 @@ fn cut_off_after(iterations: usize) -> ProcessOptions {
 
 /// Per interior edge, the growth of its bend from `input` to `output` (degrees, by acos of
 /// the normals' dot product) and its two ends.
-fn bend_growths(input: &TriMesh, output: &TriMesh) -> Vec<(f64, [usize; 2])> {
+fn bend_growths(
+    input: &TriMesh,
+    topo: &flatcut_mesh::Topology,
+    output: &TriMesh,
+) -> Vec<(f64, [usize; 2])> {
     use flatcut_mesh::geometry::face_normals;
-    let topo = flatcut_mesh::Topology::build(input).unwrap();
     let (n0, n1) = (
         face_normals(&input.positions, &input.faces),
         face_normals(&output.positions, &output.faces),
@@ -314,11 +317,11 @@ fn bend_growths(input: &TriMesh, output: &TriMesh) -> Vec<(f64, [usize; 2])> {
 /// `limit_deg`, and the input angle defect summed over those edges' interior ends (the mesh
 /// crate's `angle_defects`).
 fn crease_growth(input: &TriMesh, output: &TriMesh, limit_deg: f64) -> (f64, usize, f64) {
-    let growths = bend_growths(input, output);
+    let topo = flatcut_mesh::Topology::build(input).unwrap();
+    let growths = bend_growths(input, &topo, output);
     let max = growths.iter().map(|g| g.0).fold(0.0, f64::max);
     let creased: Vec<_> = growths.iter().filter(|g| g.0 > limit_deg).collect();
     let ends: std::collections::BTreeSet<usize> = creased.iter().flat_map(|g| g.1).collect();
-    let topo = flatcut_mesh::Topology::build(input).unwrap();
     let defects = flatcut_mesh::geometry::angle_defects(&input.positions, &input.faces, &topo);
     let defect = ends.iter().filter_map(|&v| defects[v]).sum();
     (max, creased.len(), defect)
@@ -406,7 +409,8 @@ fn creases_of_the_result_are_measured_and_named() {
 /// largest (within 1e-9°, ties taken on either side).
 fn assert_sharpest_crease_position(input: &TriMesh, output: &TriMesh, at: Option<[f64; 3]>) {
     let at = at.expect("a creased piece names its sharpest crease");
-    let growths = bend_growths(input, output);
+    let topo = flatcut_mesh::Topology::build(input).unwrap();
+    let growths = bend_growths(input, &topo, output);
     let max = growths.iter().map(|g| g.0).fold(f64::MIN, f64::max);
     assert!(
         growths.iter().any(|(grown, ends)| {
