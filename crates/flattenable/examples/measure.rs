@@ -766,16 +766,49 @@ fn speed() {
         let mut x = theta.clone();
         let solve = best_of(&mut || layout.solve(&fac, &mut x, 1));
         let assemble = best_of(&mut || layout.normal_matrix(grad, &metric, &mut normal));
+        // The run's metric: unit weights, the default tangential penalty, the input's
+        // area-weighted vertex normals.
+        let normals: Vec<[f64; 3]> = {
+            let mut acc = vec![[0.0; 3]; mesh.positions.len()];
+            for f in &mesh.faces {
+                let [a, b, c] = f.map(|v| mesh.positions[v as usize]);
+                let n = flatcut_mesh::vec3::cross(
+                    flatcut_mesh::vec3::sub(b, a),
+                    flatcut_mesh::vec3::sub(c, a),
+                );
+                for &v in f {
+                    acc[v as usize] = flatcut_mesh::vec3::add(acc[v as usize], n);
+                }
+            }
+            layout
+                .interior
+                .iter()
+                .map(|&p| flatcut_mesh::vec3::normalize(acc[p as usize]))
+                .collect()
+        };
+        let penalty = ProcessOptions::default().tangential_penalty;
+        let tangential_metric = flatcut_flattenable::least_norm::Metric {
+            scale: &at_input.scale,
+            normals: Some(&normals),
+            tangential: 1.0 / (penalty * penalty),
+        };
+        let assemble_tangential =
+            best_of(&mut || layout.normal_matrix(grad, &tangential_metric, &mut normal));
         let (mut th, mut gr) = (theta.clone(), grad.clone());
         let eval = best_of(&mut || layout.evaluate(&mesh.positions, &mut th, &mut gr));
+        let theta_alone = best_of(&mut || layout.theta(&mesh.positions, &mut th));
+        let grad_alone = best_of(&mut || layout.gradient(&mesh.positions, &mut gr));
         println!(
-            "{} faces: Cholesky {:.3} ms (faer's {:.3} ms), solve {:.3} ms, assemble A G Aᵀ {:.3} ms, θ+A {:.3} ms",
+            "{} faces: Cholesky {:.2} µs (faer's {:.2} µs), solve {:.2} µs, assemble A G Aᵀ {:.2} µs (tangential metric {:.2} µs), θ+A {:.2} µs (θ {:.2} µs, A {:.2} µs)",
             mesh.faces.len(),
-            chol * 1e3,
-            faer_chol * 1e3,
-            solve * 1e3,
-            assemble * 1e3,
-            eval * 1e3
+            chol * 1e6,
+            faer_chol * 1e6,
+            solve * 1e6,
+            assemble * 1e6,
+            assemble_tangential * 1e6,
+            eval * 1e6,
+            theta_alone * 1e6,
+            grad_alone * 1e6
         );
         for target in [Target::Detail, Target::Zero] {
             // Experiment knobs: those of `c2f_from_env` (C2F_LEVELS=0 = direct solve, C2F_MAX,
@@ -822,11 +855,12 @@ fn speed() {
                 // and against the run's own.
                 let per_step = cost.per_factorization(p.factorizations);
                 println!(
-                    "    interleaved minima: Cholesky {:.3} ms (faer's {:.3} ms), set-up {:.2} ms, run {:.2} ms; per factorisation after the set-up {:.2}x faer's Cholesky ({:.2}x the run's own)",
-                    cost.cholesky * 1e3,
-                    cost.faer_cholesky * 1e3,
-                    cost.set_up * 1e3,
-                    cost.run * 1e3,
+                    "    interleaved minima: Cholesky {:.1} µs (faer's {:.1} µs), set-up {:.1} µs, run {:.1} µs; per factorisation after the set-up {:.1} µs = {:.2}x faer's Cholesky ({:.2}x the run's own)",
+                    cost.cholesky * 1e6,
+                    cost.faer_cholesky * 1e6,
+                    cost.set_up * 1e6,
+                    cost.run * 1e6,
+                    per_step * 1e6,
                     per_step / cost.faer_cholesky,
                     per_step / cost.cholesky
                 );

@@ -274,6 +274,70 @@ impl<const B: usize> pulp::WithSimd for CornerGradients<'_, B> {
     }
 }
 
+/// The angles and the gradients of a block of corners in one pass over their edges (the
+/// loop of [`Layout::evaluate`]): the angle's |u × w| and u · w are the gradient's too, and
+/// the edges are gathered once. The same operations as [`CornerAngles`] and
+/// [`CornerGradients`] each, so the same bits.
+struct CornerAnglesGradients<'a, const B: usize> {
+    u: &'a mut [[f64; B]; 3],
+    w: &'a mut [[f64; B]; 3],
+    alpha: &'a mut [f64],
+}
+
+impl<const B: usize> pulp::WithSimd for CornerAnglesGradients<'_, B> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let ([ux, uy, uz], [wx, wy, wz]) = (self.u, self.w);
+        for (j, a) in self.alpha.iter_mut().enumerate() {
+            let (u, w) = ([ux[j], uy[j], uz[j]], [wx[j], wy[j], wz[j]]);
+            *a = angle(u, w);
+            let [ga, gb] = corner_gradient_next_previous(u, w);
+            [ux[j], uy[j], uz[j]] = ga;
+            [wx[j], wy[j], wz[j]] = gb;
+        }
+    }
+}
+
+/// θ summed block by block: each vertex's corners are contiguous, so their angles are
+/// added run by run (the same additions in the same order as one corner at a time).
+#[derive(Default)]
+struct AngleSums {
+    vertex: usize,
+    sum: f64,
+}
+
+impl AngleSums {
+    /// Adds the angles of corners `start..start + alpha.len()`.
+    #[inline]
+    fn add(&mut self, layout: &Layout, start: usize, alpha: &[f64], theta: &mut [f64]) {
+        let end = start + alpha.len();
+        let mut at = start;
+        while at < end {
+            let vertex_end = layout.corner_ptr[self.vertex + 1];
+            let stop = vertex_end.min(end);
+            for a in &alpha[at - start..stop - start] {
+                self.sum += a;
+            }
+            at = stop;
+            if stop == vertex_end {
+                theta[self.vertex] = self.sum;
+                self.sum = 0.0;
+                self.vertex += 1;
+            }
+        }
+    }
+
+    /// The vertices after the last corner (without corners: θ = 0).
+    fn finish(mut self, layout: &Layout, theta: &mut [f64]) {
+        for t in &mut theta[self.vertex..layout.n()] {
+            *t = self.sum;
+            self.sum = 0.0;
+        }
+    }
+}
+
 impl Layout {
     /// Builds the pattern for a piece. `topo` must be the piece's topology with every
     /// interior vertex manifold (checked by the caller).
@@ -518,8 +582,26 @@ impl Layout {
 
     /// θ at every interior vertex and the entries of A (∂θ_i / ∂v_col).
     pub fn evaluate(&self, positions: &[[f64; 3]], theta: &mut [f64], grad: &mut [[f64; 3]]) {
-        self.gradient(positions, grad);
-        self.theta(positions, theta);
+        const BLOCK: usize = 256;
+        let mut u = [[0.0f64; BLOCK]; 3];
+        let mut w = [[0.0f64; BLOCK]; 3];
+        let mut alpha = [0.0f64; BLOCK];
+        grad.iter_mut().for_each(|g| *g = [0.0; 3]);
+        let corners = self.corner_vertices.len();
+        let arch = pulp::Arch::new();
+        let mut sums = AngleSums::default();
+        for start in (0..corners).step_by(BLOCK) {
+            let len = BLOCK.min(corners - start);
+            self.gather_edges(start, len, positions, &mut u, &mut w);
+            arch.dispatch(CornerAnglesGradients {
+                u: &mut u,
+                w: &mut w,
+                alpha: &mut alpha[..len],
+            });
+            sums.add(self, start, &alpha[..len], theta);
+            self.scatter_block(start, len, &u, &w, grad);
+        }
+        sums.finish(self, theta);
     }
 
     /// Corner `k`'s points: its centre (the interior vertex), then the next and previous
@@ -539,6 +621,26 @@ impl Layout {
                 e[1] += gk[1];
                 e[2] += gk[2];
             }
+        }
+    }
+
+    /// Adds the gradients of corners `start..start + len` (with respect to their next and
+    /// previous points in `u` and `w`, their centre's being minus the sum) to A, in corner
+    /// order.
+    #[inline]
+    fn scatter_block<const B: usize>(
+        &self,
+        start: usize,
+        len: usize,
+        u: &[[f64; B]; 3],
+        w: &[[f64; B]; 3],
+        grad: &mut [[f64; 3]],
+    ) {
+        for j in 0..len {
+            let ga = [u[0][j], u[1][j], u[2][j]];
+            let gb = [w[0][j], w[1][j], w[2][j]];
+            let gp = [-(ga[0] + gb[0]), -(ga[1] + gb[1]), -(ga[2] + gb[2])];
+            self.scatter(start + j, [gp, ga, gb], grad);
         }
     }
 
@@ -565,12 +667,7 @@ impl Layout {
                 w: &mut w,
                 len,
             });
-            for j in 0..len {
-                let ga = [u[0][j], u[1][j], u[2][j]];
-                let gb = [w[0][j], w[1][j], w[2][j]];
-                let gp = [-(ga[0] + gb[0]), -(ga[1] + gb[1]), -(ga[2] + gb[2])];
-                self.scatter(start + j, [gp, ga, gb], grad);
-            }
+            self.scatter_block(start, len, &u, &w, grad);
         }
     }
 
@@ -586,8 +683,7 @@ impl Layout {
         let mut alpha = [0.0f64; BLOCK];
         let corners = self.corner_vertices.len();
         let arch = pulp::Arch::new();
-        let mut vertex = 0usize;
-        let mut sum = 0.0;
+        let mut sums = AngleSums::default();
         for start in (0..corners).step_by(BLOCK) {
             let len = BLOCK.min(corners - start);
             self.gather_edges(start, len, positions, &mut u, &mut w);
@@ -598,28 +694,9 @@ impl Layout {
                 w: &w,
                 alpha: &mut alpha[..len],
             });
-            // Each vertex's corners are contiguous: sum them run by run (the same additions
-            // in the same order as one corner at a time).
-            let end = start + len;
-            let mut at = start;
-            while at < end {
-                let vertex_end = self.corner_ptr[vertex + 1];
-                let stop = vertex_end.min(end);
-                for a in &alpha[at - start..stop - start] {
-                    sum += a;
-                }
-                at = stop;
-                if stop == vertex_end {
-                    theta[vertex] = sum;
-                    sum = 0.0;
-                    vertex += 1;
-                }
-            }
+            sums.add(self, start, &alpha[..len], theta);
         }
-        for t in &mut theta[vertex..self.n()] {
-            *t = sum;
-            sum = 0.0;
-        }
+        sums.finish(self, theta);
     }
 
     /// The edges u = a − p and w = b − p of corners `start..start + len`, coordinate by

@@ -48,6 +48,9 @@ struct FoldTests<'a, const B: usize> {
     normals0: &'a [[f64; 3]],
     cos_limit: &'a [[f64; 3]],
     folded: &'a mut [bool],
+    /// The faces' (f1 − f0) × (f2 − f0), x, y, z rows: what [`Piece::interior_normals`]
+    /// sums, kept for an accepted trial's next step.
+    normals: &'a mut [[f64; B]; 3],
 }
 
 impl<const B: usize> pulp::WithSimd for FoldTests<'_, B> {
@@ -59,6 +62,9 @@ impl<const B: usize> pulp::WithSimd for FoldTests<'_, B> {
         for (j, folded) in self.folded.iter_mut().enumerate() {
             let p = [0, 1, 2].map(|k| [points[k][0][j], points[k][1][j], points[k][2][j]]);
             let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+            for c in 0..3 {
+                self.normals[c][j] = n[c];
+            }
             let mut out_of_bounds = dot(n, self.normals0[j]) <= 0.0;
             // Corner k below its limit ⇔ cos(corner) > cos(limit) (cos falls on [0, π]); a
             // zero-length edge gives NaN and counts as folded.
@@ -120,12 +126,25 @@ impl Piece {
     /// go in blocks: their corners gathered first, then the tests in a loop without branches,
     /// which vectorises (the guard runs on every trial and correction).
     pub fn offending_faces(&self, positions: &[[f64; 3]]) -> Vec<usize> {
+        self.offending_faces_with_normals(positions, None)
+    }
+
+    /// [`Piece::offending_faces`], also writing every face's (f1 − f0) × (f2 − f0) into
+    /// `face_normals` (one per face) when given and the positions are finite (the sums of
+    /// [`Piece::interior_normals_from_faces`], bit for bit those of
+    /// [`Piece::interior_normals`] at the same positions).
+    pub fn offending_faces_with_normals(
+        &self,
+        positions: &[[f64; 3]],
+        mut face_normals: Option<&mut [[f64; 3]]>,
+    ) -> Vec<usize> {
         const BLOCK: usize = 256;
         if positions.iter().flatten().any(|c| !c.is_finite()) {
             return (0..self.faces.len()).collect();
         }
         // Per face of a block: its three points, coordinate by coordinate.
         let mut points = [[[0.0f64; BLOCK]; 3]; 3];
+        let mut normals = [[0.0f64; BLOCK]; 3];
         let mut folded = [false; BLOCK];
         let mut out = Vec::new();
         let arch = pulp::Arch::new();
@@ -143,7 +162,13 @@ impl Piece {
                 normals0: &self.guard.normals0[start..start + len],
                 cos_limit: &self.guard.cos_limit[start..start + len],
                 folded: &mut folded[..len],
+                normals: &mut normals,
             });
+            if let Some(out) = face_normals.as_deref_mut() {
+                for (j, n) in out[start..start + len].iter_mut().enumerate() {
+                    *n = [normals[0][j], normals[1][j], normals[2][j]];
+                }
+            }
             out.extend((0..len).filter(|&j| folded[j]).map(|j| start + j));
         }
         out
@@ -360,12 +385,23 @@ impl Piece {
 
     /// Area-weighted unit vertex normals of the interior vertices at `positions`.
     pub fn interior_normals(&self, positions: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        let mut acc = vec![[0.0; 3]; positions.len()];
-        for f in &self.faces {
-            let n = cross(
-                sub(positions[f[1] as usize], positions[f[0] as usize]),
-                sub(positions[f[2] as usize], positions[f[0] as usize]),
-            );
+        let face_normals: Vec<[f64; 3]> = self
+            .faces
+            .iter()
+            .map(|f| {
+                cross(
+                    sub(positions[f[1] as usize], positions[f[0] as usize]),
+                    sub(positions[f[2] as usize], positions[f[0] as usize]),
+                )
+            })
+            .collect();
+        self.interior_normals_from_faces(&face_normals)
+    }
+
+    /// [`Piece::interior_normals`] from the faces' (f1 − f0) × (f2 − f0), one per face.
+    pub fn interior_normals_from_faces(&self, face_normals: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let mut acc = vec![[0.0; 3]; self.pos0.len()];
+        for (f, &n) in self.faces.iter().zip(face_normals) {
             for &v in f {
                 for c in 0..3 {
                     acc[v as usize][c] += n[c];
@@ -474,6 +510,55 @@ mod tests {
         // A NaN counts every face.
         pos[7][2] = f64::NAN;
         assert_eq!(piece.folded_faces(&pos), mesh.faces.len());
+    }
+
+    /// The face normals the guard writes (four blocks of faces) give the metric's vertex
+    /// normals bit for bit as `interior_normals` forms them, and those equal the mesh
+    /// crate's area-weighted normals to round-off.
+    #[test]
+    fn the_guards_face_normals_give_the_interior_normals_bit_for_bit() {
+        let mut mesh = flatcut_mesh::shapes::grid_patch(22, 22, 100.0, |x, y| 0.001 * x * y);
+        for (i, p) in mesh.positions.iter_mut().enumerate() {
+            p[2] += 0.3 * ((i * 7919 % 13) as f64 / 13.0 - 0.5);
+        }
+        let topo = Topology::build(&mesh).unwrap();
+        let n = mesh.positions.len();
+        let piece =
+            Piece::new(0, (0..n as u32).collect(), &mesh, topo, &vec![1.0; n], 0.5).unwrap();
+        let mut from_faces = vec![[f64::NAN; 3]; mesh.faces.len()];
+        let offending = piece.offending_faces_with_normals(&mesh.positions, Some(&mut from_faces));
+        assert!(offending.is_empty());
+        assert!(mesh.faces.len() > 3 * 256, "the faces span several blocks");
+        let from_guard = piece.interior_normals_from_faces(&from_faces);
+        let direct = piece.interior_normals(&mesh.positions);
+        assert_eq!(from_guard.len(), piece.layout.n());
+        // Area-weighted from the mesh crate: Σ area · unit normal over a vertex's faces.
+        let mut reference = vec![[0.0; 3]; n];
+        let areas = face_areas(&mesh.positions, &mesh.faces);
+        for ((f, a), u) in mesh
+            .faces
+            .iter()
+            .zip(&areas)
+            .zip(face_normals(&mesh.positions, &mesh.faces))
+        {
+            for &v in f {
+                for c in 0..3 {
+                    reference[v as usize][c] += a * u[c];
+                }
+            }
+        }
+        for (i, (g, d)) in from_guard.iter().zip(&direct).enumerate() {
+            assert_eq!(
+                g.map(f64::to_bits),
+                d.map(f64::to_bits),
+                "interior vertex {i}"
+            );
+            let r = flatcut_mesh::vec3::normalize(reference[piece.layout.interior[i] as usize]);
+            assert!(
+                dot(*g, r) > 1.0 - 1e-12,
+                "interior vertex {i}: {g:?} vs {r:?}"
+            );
+        }
     }
 
     #[test]

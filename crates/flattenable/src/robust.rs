@@ -204,6 +204,22 @@ fn stiffened_scale(scale: &[f64], stiff: &[f64]) -> Vec<f64> {
 }
 
 /// The right-hand side of a step: 2π − θ beyond the merit's dead zone, per interior vertex.
+/// The fold guard's face normals ((f1 − f0) × (f2 − f0)) at an accepted trial, with its
+/// positions: the key under which the next step's metric may sum them.
+struct FaceNormalsAt {
+    positions: Vec<[f64; 3]>,
+    face_normals: Vec<[f64; 3]>,
+}
+
+/// Whether two position arrays are the same bits (a cache's key).
+fn same_bits(a: &[[f64; 3]], b: &[[f64; 3]]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
 fn residual_beyond(theta: &[f64], dead_zone: f64) -> Vec<f64> {
     theta.iter().map(|t| beyond(TAU - t, dead_zone)).collect()
 }
@@ -435,6 +451,15 @@ fn run_inner(
     let mut theta = vec![0.0; n];
     let mut trial_theta = vec![0.0; n];
     let mut grad = vec![[0.0; 3]; layout.entries()];
+    // A at the trial point, where no correction can follow (`trial_grad_fresh`).
+    let mut trial_grad = vec![[0.0; 3]; layout.entries()];
+    let mut trial_grad_fresh = false;
+    // The fold guard's face normals at the trial, and those of the last accepted trial with
+    // its positions: the next step's metric sums them instead of forming them again
+    // (`Piece::interior_normals_from_faces`), where the positions are still those.
+    let mut trial_face_normals = vec![[0.0; 3]; piece.faces.len()];
+    let mut trial_normals_fresh = false;
+    let mut accepted_face_normals: Option<FaceNormalsAt> = None;
     let mut normal = vec![0.0; layout.normal_nnz()];
     layout.evaluate(&pos, &mut theta, &mut grad);
     // The shaped damping's norm for the merit (its matrix factorised once per run); the
@@ -936,7 +961,12 @@ fn run_inner(
                 }
             }
         }
-        let normals = (tangential < 1.0).then(|| piece.interior_normals(&pos));
+        let normals = (tangential < 1.0).then(|| match &accepted_face_normals {
+            Some(cached) if same_bits(&cached.positions, &pos) => {
+                piece.interior_normals_from_faces(&cached.face_normals)
+            }
+            _ => piece.interior_normals(&pos),
+        });
         let b = residual_beyond(&theta, dead_zone);
         let interior = piece.interior_of(&pos);
         let area_row = area_goal.map(|goal| AreaRow::at(piece, &pos, goal));
@@ -1032,8 +1062,13 @@ fn run_inner(
             let filtered = ls.as_ref().map(|u| u.apply(layout, &v_star));
             let next = filtered.as_ref().unwrap_or(&v_star);
             let mut trial = piece.with_interior(&pos, next);
-            let offending = piece.offending_faces(&trial);
+            let offending = piece.offending_faces_with_normals(
+                &trial,
+                (tangential < 1.0).then_some(&mut trial_face_normals[..]),
+            );
             let folded = offending.len();
+            // Corrections move the trial: then its guard's normals are no longer its own.
+            trial_normals_fresh = folded == 0 && tangential < 1.0;
             if folded > 0 && ls.is_none() && stiffened < MAX_STIFFEN {
                 // A face would fold: its corners and normal depend only on its three
                 // vertices, so stiffen those (a larger weight in the metric, Eq. 14) and
@@ -1051,8 +1086,15 @@ fn run_inner(
                 report.rejected_steps += 1;
                 continue;
             }
+            // Where no correction can follow, A at the trial comes with its θ (one pass over
+            // the corners, and the accepted step needs it); otherwise θ alone.
+            trial_grad_fresh = folded == 0 && !(ls.is_none() && corrections_pay);
             let mut f_trial = if folded == 0 {
-                layout.theta(&trial, &mut trial_theta);
+                if trial_grad_fresh {
+                    layout.evaluate(&trial, &mut trial_theta, &mut trial_grad);
+                } else {
+                    layout.theta(&trial, &mut trial_theta);
+                }
                 norm.merit(&trial_theta, dead_zone).1
             } else {
                 f64::INFINITY
@@ -1104,6 +1146,7 @@ fn run_inner(
                         break;
                     }
                     trial = cand;
+                    trial_normals_fresh = false;
                     trial_theta = cand_theta;
                     f_trial = f_cand;
                     trial_corrections += 1;
@@ -1189,13 +1232,30 @@ fn run_inner(
         for k in &mut stiff {
             *k = (*k / STIFFEN.sqrt()).max(1.0);
         }
-        // θ at the accepted point was computed for its test (the same sums, bit for bit):
-        // only A is new.
+        // θ at the accepted point was computed for its test (the same sums, bit for bit),
+        // and A too where no correction could follow.
         match trial_theta_owned {
-            Some(t) => theta = t,
-            None => std::mem::swap(&mut theta, &mut trial_theta),
+            Some(t) => {
+                theta = t;
+                layout.gradient(&pos, &mut grad);
+            }
+            None => {
+                if trial_normals_fresh {
+                    let cached = accepted_face_normals.get_or_insert_with(|| FaceNormalsAt {
+                        positions: Vec::new(),
+                        face_normals: vec![[0.0; 3]; piece.faces.len()],
+                    });
+                    cached.positions.clone_from(&pos);
+                    std::mem::swap(&mut cached.face_normals, &mut trial_face_normals);
+                }
+                std::mem::swap(&mut theta, &mut trial_theta);
+                if trial_grad_fresh {
+                    std::mem::swap(&mut grad, &mut trial_grad);
+                } else {
+                    layout.gradient(&pos, &mut grad);
+                }
+            }
         }
-        layout.gradient(&pos, &mut grad);
         let f_before = f;
         (err, f) = norm.merit(&theta, dead_zone);
         if f < (1.0 - SMOOTH_STAGNANT_GAIN) * f_before {

@@ -266,6 +266,30 @@ fn theta_in_blocks_equals_the_sum_of_corner_angles() {
 }
 
 #[test]
+fn evaluate_in_one_pass_equals_theta_and_gradient_bit_for_bit() {
+    // `Layout::evaluate` forms θ and A in one pass over the corners (one gather of their
+    // edges, one kernel); a run mixes it with `theta` (backtracking, corrections) and
+    // `gradient` (accepted points), so they must agree to the bit, across block boundaries.
+    let mesh = rough_saddle(30);
+    let topo = Topology::build(&mesh).unwrap();
+    let layout = Layout::build(&topo, &mesh.faces).unwrap();
+    assert!(6 * layout.n() > 10 * 256, "the corners span several blocks");
+    let mut theta = vec![f64::NAN; layout.n()];
+    let mut grad = vec![[f64::NAN; 3]; layout.entries()];
+    layout.evaluate(&mesh.positions, &mut theta, &mut grad);
+    let mut theta_alone = vec![f64::NAN; layout.n()];
+    let mut grad_alone = vec![[f64::NAN; 3]; layout.entries()];
+    layout.theta(&mesh.positions, &mut theta_alone);
+    layout.gradient(&mesh.positions, &mut grad_alone);
+    for i in 0..layout.n() {
+        assert_eq!(theta[i].to_bits(), theta_alone[i].to_bits(), "θ at {i}");
+    }
+    for (e, (a, b)) in grad.iter().zip(&grad_alone).enumerate() {
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "entry {e}");
+    }
+}
+
+#[test]
 fn refactor_reuses_buffers_and_recovers_after_a_failed_factorisation() {
     let (layout, theta, grad) = setup(&common::sphere_cap(8));
     // A Aᵀ through the unit metric; b = 2π − θ.
