@@ -8,6 +8,7 @@ mod common;
 use std::f64::consts::TAU;
 
 use faer::Mat;
+use faer::linalg::solvers::Solve;
 use flatcut_flattenable::angle_gradient::angle_sum_gradient;
 use flatcut_flattenable::least_norm::{Layout, Metric, least_norm_step};
 use flatcut_mesh::Topology;
@@ -80,6 +81,61 @@ fn weighted_step_solves_constraints_and_equals_dense_pseudo_inverse() {
             diff.sqrt() / dn
         );
     }
+}
+
+#[test]
+fn tangential_metric_step_equals_the_dense_formula() {
+    // The robust mode's metric G_c = s_c (t I + (1 − t) n nᵀ), which `normal_matrix`
+    // applies through its square root: against d = G Aᵀ (A G Aᵀ)⁻¹ b with G formed
+    // densely block by block, on a rough saddle, with varying weights and normals tilted
+    // off the surface's.
+    let mesh = rough_saddle(7);
+    let (layout, theta, grad) = setup(&mesh);
+    let n = layout.n();
+    let scale: Vec<f64> = (0..n).map(|i| 1.0 / (1.0 + (i % 5) as f64)).collect();
+    let normals: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let a = 0.3 * ((i * 37 % 11) as f64 / 11.0 - 0.5);
+            flatcut_mesh::vec3::normalize([a, -0.5 * a, 1.0])
+        })
+        .collect();
+    let t = 0.01;
+    let metric = Metric {
+        scale: &scale,
+        normals: Some(&normals),
+        tangential: t,
+    };
+    let mut normal = vec![0.0; layout.normal_nnz()];
+    layout.normal_matrix(&grad, &metric, &mut normal);
+    let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
+    let d = least_norm_step(&layout, &grad, &metric, &normal, &b, 0.0).unwrap();
+
+    let a = dense_a(&layout, &grad);
+    let g = Mat::<f64>::from_fn(3 * n, 3 * n, |r, c| {
+        if r / 3 != c / 3 {
+            return 0.0;
+        }
+        let (v, nv) = (r / 3, normals[r / 3]);
+        let identity = if r == c { t } else { 0.0 };
+        scale[v] * (identity + (1.0 - t) * nv[r % 3] * nv[c % 3])
+    });
+    let aga = &a * &g * a.transpose();
+    let bm = Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
+    let x = aga.partial_piv_lu().solve(&bm);
+    let dense = &g * a.transpose() * &x;
+    let dn = d.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+    let mut diff = 0.0;
+    for c in 0..n {
+        for k in 0..3 {
+            diff += (dense[(3 * c + k, 0)] - d[c][k]).powi(2);
+        }
+    }
+    assert!(dn > 1e-3, "a step to compare: |d| = {dn:e}");
+    assert!(
+        diff.sqrt() / dn < 1e-10,
+        "sparse vs dense {}",
+        diff.sqrt() / dn
+    );
 }
 
 #[test]
