@@ -161,15 +161,20 @@ fn bench_step_kernels(c: &mut Criterion) {
     for n in [12usize, 24, 43, 72] {
         let mesh = cap(n);
         let faces = mesh.face_count();
+        let at_input = AtInput::new(&mesh);
+        let normals = at_input.interior_normals(&mesh);
+        let tangential = at_input.tangential_metric(&normals);
         let AtInput {
             layout,
-            mut theta,
-            mut grad,
+            theta,
+            grad,
             scale,
-            mut normal,
+            normal,
             mean_diagonal,
-        } = AtInput::new(&mesh);
-        let metric = Metric::isotropic(&scale);
+        } = &at_input;
+        let (mut theta, mut grad, mut normal) = (theta.clone(), grad.clone(), normal.clone());
+        let mean_diagonal = *mean_diagonal;
+        let metric = Metric::isotropic(scale);
         let shift = 1e-3 * mean_diagonal;
         let mut factor = layout
             .factor(&normal, shift, None)
@@ -180,8 +185,18 @@ fn bench_step_kernels(c: &mut Criterion) {
         group.bench_function(format!("gradient_{faces}_faces"), |b| {
             b.iter(|| layout.gradient(black_box(&mesh.positions), &mut grad))
         });
+        // θ and A in one pass: a trial where no correction can follow.
+        group.bench_function(format!("evaluate_{faces}_faces"), |b| {
+            b.iter(|| layout.evaluate(black_box(&mesh.positions), &mut theta, &mut grad))
+        });
         group.bench_function(format!("normal_matrix_{faces}_faces"), |b| {
             b.iter(|| layout.normal_matrix(black_box(&grad), &metric, &mut normal))
+        });
+        // Robust mode's metric (the default tangential penalty), into its own buffer: the
+        // factorisations below take the isotropic A Aᵀ.
+        let mut tangential_normal = normal.clone();
+        group.bench_function(format!("normal_matrix_tangential_{faces}_faces"), |b| {
+            b.iter(|| layout.normal_matrix(black_box(&grad), &tangential, &mut tangential_normal))
         });
         group.bench_function(format!("cholesky_{faces}_faces"), |b| {
             b.iter(|| {

@@ -768,30 +768,8 @@ fn speed() {
         let assemble = best_of(&mut || layout.normal_matrix(grad, &metric, &mut normal));
         // The run's metric: unit weights, the default tangential penalty, the input's
         // area-weighted vertex normals.
-        let normals: Vec<[f64; 3]> = {
-            let mut acc = vec![[0.0; 3]; mesh.positions.len()];
-            for f in &mesh.faces {
-                let [a, b, c] = f.map(|v| mesh.positions[v as usize]);
-                let n = flatcut_mesh::vec3::cross(
-                    flatcut_mesh::vec3::sub(b, a),
-                    flatcut_mesh::vec3::sub(c, a),
-                );
-                for &v in f {
-                    acc[v as usize] = flatcut_mesh::vec3::add(acc[v as usize], n);
-                }
-            }
-            layout
-                .interior
-                .iter()
-                .map(|&p| flatcut_mesh::vec3::normalize(acc[p as usize]))
-                .collect()
-        };
-        let penalty = ProcessOptions::default().tangential_penalty;
-        let tangential_metric = flatcut_flattenable::least_norm::Metric {
-            scale: &at_input.scale,
-            normals: Some(&normals),
-            tangential: 1.0 / (penalty * penalty),
-        };
+        let normals = at_input.interior_normals(&mesh);
+        let tangential_metric = at_input.tangential_metric(&normals);
         let assemble_tangential =
             best_of(&mut || layout.normal_matrix(grad, &tangential_metric, &mut normal));
         let (mut th, mut gr) = (theta.clone(), grad.clone());

@@ -42,6 +42,35 @@ impl AtInput {
         Metric::isotropic(&self.scale)
     }
 
+    /// The area-weighted unit normals of `mesh`'s interior vertices, in the layout's order:
+    /// with [`AtInput::tangential_metric`], the metric of a robust run's first step.
+    pub fn interior_normals(&self, mesh: &TriMesh) -> Vec<[f64; 3]> {
+        use flatcut_mesh::vec3::{add, cross, normalize, sub};
+        let mut acc = vec![[0.0; 3]; mesh.positions.len()];
+        for f in &mesh.faces {
+            let [a, b, c] = f.map(|v| mesh.positions[v as usize]);
+            let n = cross(sub(b, a), sub(c, a));
+            for &v in f {
+                acc[v as usize] = add(acc[v as usize], n);
+            }
+        }
+        self.layout
+            .interior
+            .iter()
+            .map(|&p| normalize(acc[p as usize]))
+            .collect()
+    }
+
+    /// Unit weights and the default tangential penalty with `normals`: robust mode's metric.
+    pub fn tangential_metric<'a>(&'a self, normals: &'a [[f64; 3]]) -> Metric<'a> {
+        let penalty = flatcut_flattenable::ProcessOptions::default().tangential_penalty;
+        Metric {
+            scale: &self.scale,
+            normals: Some(normals),
+            tangential: 1.0 / (penalty * penalty),
+        }
+    }
+
     /// What a step of `process(mesh, opts)` costs against one Cholesky of this A Aᵀ (at μ =
     /// 1e-3 × its mean diagonal): four things timed in turn, `reps` times — our numeric
     /// factorisation, faer's, the piece's set-up alone (`max_iterations` 0) and the whole
