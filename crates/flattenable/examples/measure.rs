@@ -671,13 +671,19 @@ fn patches() {
             let loops = flatcut_mesh::Topology::build(&piece)
                 .map(|t| t.boundary_loops().len())
                 .unwrap_or(0);
+            // The crease's kind (docs/algorithms/flattenable.md, "Creases"): what the
+            // neutral band `CREASE_DEFECT_NEUTRAL_RAD` is judged on.
+            let kind = flatcut_flattenable::CreaseKind::of(p.creased_defect_rad)
+                .filter(|_| p.creased_edges > 0)
+                .map_or("-".to_string(), |k| format!("{k:?}"));
             println!(
-                "| {body} v{centre} | {} | {loops} | {} | {:.4} | {:.0} | {} | {} | {:.1} |",
+                "| {body} v{centre} | {} | {loops} | {} | {:.4} | {:.0} | {} | {:+.3} {kind} | {} | {:.1} |",
                 p.faces,
                 outcome_cells(p, ok),
                 p.rms_displacement_mm / (fraction * height),
                 p.max_crease_deg,
                 p.creased_edges,
+                p.creased_defect_rad,
                 p.folded_faces,
                 t.elapsed().as_secs_f64(),
             );
