@@ -274,6 +274,10 @@ impl<const B: usize> pulp::WithSimd for CornerGradients<'_, B> {
     }
 }
 
+/// Corners per block of the θ and A loops: their edges, coordinate by coordinate, fit the
+/// stack and the L1 cache, and a block is long enough for the vectorised kernels.
+const CORNER_BLOCK: usize = 256;
+
 /// The angles and the gradients of a block of corners in one pass over their edges (the
 /// loop of [`Layout::evaluate`]): the angle's |u × w| and u · w are the gradient's too, and
 /// the edges are gathered once. The same operations as [`CornerAngles`] and
@@ -582,26 +586,44 @@ impl Layout {
 
     /// θ at every interior vertex and the entries of A (∂θ_i / ∂v_col).
     pub fn evaluate(&self, positions: &[[f64; 3]], theta: &mut [f64], grad: &mut [[f64; 3]]) {
-        const BLOCK: usize = 256;
-        let mut u = [[0.0f64; BLOCK]; 3];
-        let mut w = [[0.0f64; BLOCK]; 3];
-        let mut alpha = [0.0f64; BLOCK];
-        grad.iter_mut().for_each(|g| *g = [0.0; 3]);
-        let corners = self.corner_vertices.len();
+        let mut alpha = [0.0f64; CORNER_BLOCK];
         let arch = pulp::Arch::new();
         let mut sums = AngleSums::default();
-        for start in (0..corners).step_by(BLOCK) {
-            let len = BLOCK.min(corners - start);
-            self.gather_edges(start, len, positions, &mut u, &mut w);
+        grad.iter_mut().for_each(|g| *g = [0.0; 3]);
+        self.corner_blocks(positions, |start, len, u, w| {
             arch.dispatch(CornerAnglesGradients {
-                u: &mut u,
-                w: &mut w,
+                u,
+                w,
                 alpha: &mut alpha[..len],
             });
             sums.add(self, start, &alpha[..len], theta);
-            self.scatter_block(start, len, &u, &w, grad);
-        }
+            self.scatter_block(start, len, u, w, grad);
+        });
         sums.finish(self, theta);
+    }
+
+    /// The corners in blocks of [`CORNER_BLOCK`]: each block's edges u = a − p and
+    /// w = b − p gathered (x, y, z rows), then `block(start, len, u, w)` — the loop of
+    /// [`Layout::theta`], [`Layout::gradient`] and [`Layout::evaluate`].
+    #[inline]
+    fn corner_blocks(
+        &self,
+        positions: &[[f64; 3]],
+        mut block: impl FnMut(
+            usize,
+            usize,
+            &mut [[f64; CORNER_BLOCK]; 3],
+            &mut [[f64; CORNER_BLOCK]; 3],
+        ),
+    ) {
+        let mut u = [[0.0f64; CORNER_BLOCK]; 3];
+        let mut w = [[0.0f64; CORNER_BLOCK]; 3];
+        let corners = self.corner_vertices.len();
+        for start in (0..corners).step_by(CORNER_BLOCK) {
+            let len = CORNER_BLOCK.min(corners - start);
+            self.gather_edges(start, len, positions, &mut u, &mut w);
+            block(start, len, &mut u, &mut w);
+        }
     }
 
     /// Corner `k`'s points: its centre (the interior vertex), then the next and previous
@@ -651,24 +673,14 @@ impl Layout {
     /// order — the same operations in the same order as one `corner_gradient` per corner,
     /// so the same bits (tested against `angle_sum_gradient`).
     pub fn gradient(&self, positions: &[[f64; 3]], grad: &mut [[f64; 3]]) {
-        const BLOCK: usize = 256;
-        // Per corner of a block: the edges u, w from its centre (x, y, z each), overwritten
-        // by the gradients with respect to the corner's next and previous points.
-        let mut u = [[0.0f64; BLOCK]; 3];
-        let mut w = [[0.0f64; BLOCK]; 3];
         grad.iter_mut().for_each(|g| *g = [0.0; 3]);
-        let corners = self.corner_vertices.len();
         let arch = pulp::Arch::new();
-        for start in (0..corners).step_by(BLOCK) {
-            let len = BLOCK.min(corners - start);
-            self.gather_edges(start, len, positions, &mut u, &mut w);
-            arch.dispatch(CornerGradients {
-                u: &mut u,
-                w: &mut w,
-                len,
-            });
-            self.scatter_block(start, len, &u, &w, grad);
-        }
+        // The edges u, w of a block are overwritten by the gradients with respect to the
+        // corner's next and previous points.
+        self.corner_blocks(positions, |start, len, u, w| {
+            arch.dispatch(CornerGradients { u, w, len });
+            self.scatter_block(start, len, u, w, grad);
+        });
     }
 
     /// θ at every interior vertex only (for trial points). The corners go in blocks: their
@@ -677,25 +689,19 @@ impl Layout {
     /// 3.5k-face run), then the sums in corner order: the same sums as
     /// [`Layout::theta_at`], bit for bit.
     pub fn theta(&self, positions: &[[f64; 3]], theta: &mut [f64]) {
-        const BLOCK: usize = 256;
-        let mut u = [[0.0f64; BLOCK]; 3];
-        let mut w = [[0.0f64; BLOCK]; 3];
-        let mut alpha = [0.0f64; BLOCK];
-        let corners = self.corner_vertices.len();
+        let mut alpha = [0.0f64; CORNER_BLOCK];
         let arch = pulp::Arch::new();
         let mut sums = AngleSums::default();
-        for start in (0..corners).step_by(BLOCK) {
-            let len = BLOCK.min(corners - start);
-            self.gather_edges(start, len, positions, &mut u, &mut w);
+        self.corner_blocks(positions, |start, len, u, w| {
             // Compiled for the widest vectors the CPU has (4 lanes with AVX2 where the
             // baseline x86-64 build has 2): the same operations, so the same bits.
             arch.dispatch(CornerAngles {
-                u: &u,
-                w: &w,
+                u,
+                w,
                 alpha: &mut alpha[..len],
             });
             sums.add(self, start, &alpha[..len], theta);
-        }
+        });
         sums.finish(self, theta);
     }
 
