@@ -18,6 +18,13 @@ fn setup(mesh: &flatcut_mesh::TriMesh) -> (Layout, Vec<f64>, Vec<[f64; 3]>) {
     (at.layout, at.theta, at.grad)
 }
 
+/// The undamped least-norm step under `metric`: A G Aᵀ assembled, then d = G Aᵀ x.
+fn step_under(layout: &Layout, grad: &[[f64; 3]], metric: &Metric<'_>, b: &[f64]) -> Vec<[f64; 3]> {
+    let mut normal = vec![0.0; layout.normal_nnz()];
+    layout.normal_matrix(grad, metric, &mut normal);
+    least_norm_step(layout, grad, metric, &normal, b, 0.0).unwrap()
+}
+
 fn dense_a(layout: &Layout, grad: &[[f64; 3]]) -> Mat<f64> {
     let n = layout.n();
     let mut a = Mat::<f64>::zeros(n, 3 * n);
@@ -105,10 +112,8 @@ fn tangential_metric_step_equals_the_dense_formula() {
         normals: Some(&normals),
         tangential: t,
     };
-    let mut normal = vec![0.0; layout.normal_nnz()];
-    layout.normal_matrix(&grad, &metric, &mut normal);
     let b: Vec<f64> = theta.iter().map(|t| TAU - t).collect();
-    let d = least_norm_step(&layout, &grad, &metric, &normal, &b, 0.0).unwrap();
+    let d = step_under(&layout, &grad, &metric, &b);
 
     let a = dense_a(&layout, &grad);
     let g = Mat::<f64>::from_fn(3 * n, 3 * n, |r, c| {
@@ -176,9 +181,7 @@ fn normal_metric_moves_mostly_along_normals() {
             normals: Some(&normals),
             tangential: t,
         };
-        let mut normal = vec![0.0; layout.normal_nnz()];
-        layout.normal_matrix(&grad, &metric, &mut normal);
-        let d = least_norm_step(&layout, &grad, &metric, &normal, &b, 0.0).unwrap();
+        let d = step_under(&layout, &grad, &metric, &b);
         // Still solves A d = b.
         let ad = layout.apply(&grad, &d);
         let res: f64 = ad
