@@ -43,7 +43,7 @@ const CRAWL_AT_RAD: f64 = 1e-4;
 /// flattenable.md, "A damping shaped like the graph Laplacian"); pieces that stall farther
 /// away (the saddle-like shoulder at 1.8e-3, scan pieces with darts to take out at 1e-3–1e-1)
 /// were measured no better with it, and are spared its cost.
-const SHAPED_RESCUE_AT_RAD: f64 = 1e-4;
+const SHAPED_RESCUE_AT_RAD: f64 = 1e-2;
 /// Halvings of the prolongated displacement tried when the prolongated start folds a face
 /// against the input; after them the level starts from its input.
 const START_HALVINGS: usize = 8;
