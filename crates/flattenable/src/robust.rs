@@ -203,7 +203,6 @@ fn stiffened_scale(scale: &[f64], stiff: &[f64]) -> Vec<f64> {
     scale.iter().zip(stiff).map(|(s, k)| s / (k * k)).collect()
 }
 
-/// The right-hand side of a step: 2π − θ beyond the merit's dead zone, per interior vertex.
 /// The fold guard's face normals ((f1 − f0) × (f2 − f0)) at an accepted trial, with its
 /// positions: the key under which the next step's metric may sum them.
 struct FaceNormalsAt {
@@ -220,6 +219,7 @@ fn same_bits(a: &[[f64; 3]], b: &[[f64; 3]]) -> bool {
             .all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
+/// The right-hand side of a step: 2π − θ beyond the merit's dead zone, per interior vertex.
 fn residual_beyond(theta: &[f64], dead_zone: f64) -> Vec<f64> {
     theta.iter().map(|t| beyond(TAU - t, dead_zone)).collect()
 }
