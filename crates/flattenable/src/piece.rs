@@ -532,21 +532,9 @@ mod tests {
         let from_guard = piece.interior_normals_from_faces(&from_faces);
         let direct = piece.interior_normals(&mesh.positions);
         assert_eq!(from_guard.len(), piece.layout.n());
-        // Area-weighted from the mesh crate: Σ area · unit normal over a vertex's faces.
-        let mut reference = vec![[0.0; 3]; n];
-        let areas = face_areas(&mesh.positions, &mesh.faces);
-        for ((f, a), u) in mesh
-            .faces
-            .iter()
-            .zip(&areas)
-            .zip(face_normals(&mesh.positions, &mesh.faces))
-        {
-            for &v in f {
-                for c in 0..3 {
-                    reference[v as usize][c] += a * u[c];
-                }
-            }
-        }
+        // Area-weighted from the mesh crate: Σ |cross| · unit normal over a vertex's faces.
+        let reference =
+            flatcut_mesh::geometry::area_weighted_vertex_normals(&mesh.positions, &mesh.faces);
         for (i, (g, d)) in from_guard.iter().zip(&direct).enumerate() {
             assert_eq!(
                 g.map(f64::to_bits),

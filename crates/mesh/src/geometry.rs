@@ -70,6 +70,23 @@ pub fn face_normals(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]>
         .collect()
 }
 
+/// Per vertex, the sum of its faces' unit normals weighted by twice their area (not
+/// normalised: callers normalise where they need a direction; zero at a vertex without
+/// faces or with only degenerate ones).
+pub fn area_weighted_vertex_normals(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]> {
+    let unit = face_normals(positions, faces);
+    let mut out = vec![[0.0; 3]; positions.len()];
+    for (f, face) in faces.iter().enumerate() {
+        let [a, b, c] = face.map(|i| positions[i as usize]);
+        let twice_area = norm(cross(sub(b, a), sub(c, a)));
+        for &v in face {
+            out[v as usize] =
+                crate::vec3::add(out[v as usize], crate::vec3::scale(unit[f], twice_area));
+        }
+    }
+    out
+}
+
 /// ∂(total area)/∂v per vertex: Σ over v's faces of ½ n̂ × (v_next − v_prev), the
 /// half-edge opposite v turned a quarter in the face's plane (zero for a degenerate face).
 pub fn area_gradient(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[f64; 3]> {

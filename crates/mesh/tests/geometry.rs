@@ -375,3 +375,35 @@ fn component_extents_are_diagonals_without_overflow() {
     let naive = |s: f64| (s * s + s * s).sqrt();
     assert_eq!((naive(1e300), naive(1e-300)), (f64::INFINITY, 0.0));
 }
+
+#[test]
+fn area_weighted_vertex_normals_on_a_plane_and_a_sphere() {
+    // A plane: each vertex's normal is +z times twice the area of its faces.
+    let plane = grid_patch(7, 5, 60.0, |_, _| 0.0);
+    let normals = area_weighted_vertex_normals(&plane.positions, &plane.faces);
+    let mut twice_area = vec![0.0; plane.positions.len()];
+    for (f, a) in plane
+        .faces
+        .iter()
+        .zip(face_areas(&plane.positions, &plane.faces))
+    {
+        for &v in f {
+            twice_area[v as usize] += 2.0 * a;
+        }
+    }
+    for (n, a) in normals.iter().zip(&twice_area) {
+        assert!(n[0].abs() < 1e-12 && n[1].abs() < 1e-12, "{n:?}");
+        assert!((n[2] - a).abs() <= 1e-12 * a, "{} vs {a}", n[2]);
+    }
+    // A closed sphere: the normals point outwards along the radius, and they sum to zero
+    // (three times the faces' area vectors, whose sum vanishes on a closed surface).
+    let sphere = icosphere(50.0, 3);
+    let normals = area_weighted_vertex_normals(&sphere.positions, &sphere.faces);
+    let mut sum = [0.0; 3];
+    for (n, p) in normals.iter().zip(&sphere.positions) {
+        assert!(dot(normalize(*n), normalize(*p)) > 0.999, "{n:?} at {p:?}");
+        sum = add(sum, *n);
+    }
+    let total: f64 = normals.iter().map(|n| norm(*n)).sum();
+    assert!(norm(sum) < 1e-12 * total, "Σ = {sum:?}");
+}

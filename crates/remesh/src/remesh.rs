@@ -7,7 +7,7 @@
 //! at the end with the rest of the surface fixed. See docs/algorithms/remesh.md.
 
 use flatcut_mesh::bvh::Bvh;
-use flatcut_mesh::geometry::face_normals;
+use flatcut_mesh::geometry::{area_weighted_vertex_normals, face_normals};
 use flatcut_mesh::vec3::{add, cross, dist, dot, norm, norm2, normalize, scale, sub};
 use flatcut_mesh::{INVALID, Topology, TriMesh, VertexId};
 use rayon::prelude::*;
@@ -518,21 +518,6 @@ fn check_options(mesh: &TriMesh, opts: &RemeshOptions) -> Result<(), RemeshError
     Ok(())
 }
 
-/// Vertex normals as the sum of the incident face normals weighted by twice the face area
-/// (not normalised: callers normalise where they need a direction).
-fn area_weighted_vertex_normals(surf: &TriMesh) -> Vec<[f64; 3]> {
-    let fnorm = face_normals(&surf.positions, &surf.faces);
-    let mut vn = vec![[0.0; 3]; surf.positions.len()];
-    for (f, face) in surf.faces.iter().enumerate() {
-        let [a, b, c] = face.map(|i| surf.positions[i as usize]);
-        let area = norm(cross(sub(b, a), sub(c, a)));
-        for &v in face {
-            vn[v as usize] = add(vn[v as usize], scale(fnorm[f], area));
-        }
-    }
-    vn
-}
-
 /// Target edge length per working-surface vertex: uniform, or from a curvature estimate
 /// (largest normal curvature towards a neighbour, averaged once over the ring) by Botsch &
 /// Kobbelt's chord-error rule L = √(6ε/κ − 3ε²), clamped to [min, max].
@@ -541,7 +526,7 @@ fn sizing_field(surf: &TriMesh, topo: &Topology, opts: &RemeshOptions) -> Vec<f6
     let (Some(lo), Some(hi)) = (opts.min_edge_mm, opts.max_edge_mm) else {
         return vec![opts.target_edge_mm; n];
     };
-    let vn = area_weighted_vertex_normals(surf);
+    let vn = area_weighted_vertex_normals(&surf.positions, &surf.faces);
     let mut kappa = vec![0.0f64; n];
     for e in topo.edges() {
         let (a, b) = (e[0] as usize, e[1] as usize);
@@ -587,7 +572,7 @@ fn sizing_field(surf: &TriMesh, topo: &Topology, opts: &RemeshOptions) -> Vec<f6
 /// gives about σ (≈ 2 mm on mh_body_scanlike).
 fn roughness_field(surf: &TriMesh, topo: &Topology) -> Vec<f64> {
     let n = surf.positions.len();
-    let vn = area_weighted_vertex_normals(surf);
+    let vn = area_weighted_vertex_normals(&surf.positions, &surf.faces);
     let edges = topo.edges();
     let ring_mean = |val: &[[f64; 3]]| -> Vec<[f64; 3]> {
         let mut sum = vec![[0.0; 3]; n];

@@ -45,19 +45,12 @@ impl AtInput {
     /// The area-weighted unit normals of `mesh`'s interior vertices, in the layout's order:
     /// with [`AtInput::tangential_metric`], the metric of a robust run's first step.
     pub fn interior_normals(&self, mesh: &TriMesh) -> Vec<[f64; 3]> {
-        use flatcut_mesh::vec3::{add, cross, normalize, sub};
-        let mut acc = vec![[0.0; 3]; mesh.positions.len()];
-        for f in &mesh.faces {
-            let [a, b, c] = f.map(|v| mesh.positions[v as usize]);
-            let n = cross(sub(b, a), sub(c, a));
-            for &v in f {
-                acc[v as usize] = add(acc[v as usize], n);
-            }
-        }
+        let weighted =
+            flatcut_mesh::geometry::area_weighted_vertex_normals(&mesh.positions, &mesh.faces);
         self.layout
             .interior
             .iter()
-            .map(|&p| normalize(acc[p as usize]))
+            .map(|&p| flatcut_mesh::vec3::normalize(weighted[p as usize]))
             .collect()
     }
 
