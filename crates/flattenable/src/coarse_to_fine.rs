@@ -18,7 +18,7 @@ use flatcut_mesh::{Topology, TriMesh};
 
 use crate::coarsen::{Coarsened, coarsen_with};
 use crate::options::{CoarseToFine, Damping, ProcessOptions, Prolongation};
-use crate::piece::Piece;
+use crate::piece::{Piece, rough_median};
 use crate::report::PieceReport;
 use crate::{FlattenableError, robust};
 
@@ -155,7 +155,8 @@ impl Chain {
 /// one cut off near θ = 2π ([`CRAWL_AT_RAD`]) moves the direct solve to the front of the
 /// remaining attempts. When all of these fail, with `rescue`: the displacement rescue
 /// hierarchy under `Damping::GraphLaplacian` if some attempt got within
-/// [`SHAPED_RESCUE_AT_RAD`], then the continuation of a fine level cut near θ = 2π. A direct
+/// [`SHAPED_RESCUE_AT_RAD`], then the continuation of a fine level cut near θ = 2π, then on
+/// a rough piece (`piece::rough_median`) the direct solve under that damping. A direct
 /// solve that hands the piece over (stuck far from θ = 2π under heavy damping) is followed by
 /// that shaped hierarchy at once, before the identity ones, which run only if it fails. The best result by ‖θ − 2π‖² is kept, so the outcome is never worse
 /// than the direct solve's; the kept run's report carries the others' messages, rejected
@@ -366,6 +367,34 @@ pub fn run(
             return Ok(out);
         }
         // Kept only if nearer θ = 2π than every attempt (its start was one of them).
+        tally.consider(merit(&out), out, rep);
+    }
+    // Last, on a rough piece (scan noise, `piece::rough_median`), the direct solve from the
+    // input under the shaped damping: where the identity damping's attempts and the shaped
+    // hierarchy stall (the 10 mm scan wetsuit's front-right leg at 7e-4–1.6e-2 on scans
+    // perturbed by 1e-12), it converges. It runs only after every other attempt has failed,
+    // so a piece that converges keeps its path bit for bit; on smooth pieces that fail it
+    // was measured no better (the real meshes, the body patches) and costs a direct solve
+    // (docs/algorithms/flattenable.md, "Rough scan pieces: the shaped direct solve").
+    if shaped_allowed(opts) && rough_median(&piece.input_theta()).is_some() {
+        let shaped = ProcessOptions {
+            damping: Damping::GraphLaplacian,
+            ..opts.clone()
+        };
+        tally
+            .notes
+            .push("solved again from the input with graph-Laplacian damping".into());
+        let mut rep = fresh(report);
+        let out = robust::run(piece, &shaped, &mut rep).positions;
+        if rep.converged {
+            *report = tally.converged(rep);
+            return Ok(out);
+        }
+        tally.notes.push(format!(
+            "the direct solve with graph-Laplacian damping did not converge (best θ_err {:.1e} in {} iterations)",
+            best_reached(&rep, false),
+            rep.iterations
+        ));
         tally.consider(merit(&out), out, rep);
     }
     let Some((out, kept)) = tally.best() else {

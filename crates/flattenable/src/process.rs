@@ -8,7 +8,7 @@ use flatcut_mesh::{FaceId, Topology, TriMesh, VertexId};
 use rayon::prelude::*;
 
 use crate::coarse_to_fine::Chain;
-use crate::piece::Piece;
+use crate::piece::{Piece, rough_median};
 use crate::report::{PieceReport, ProcessReport};
 use crate::{
     FlattenableError, Mode, ProcessOptions, Target, Update, coarse_to_fine, paper, pull_back,
@@ -283,20 +283,6 @@ fn vertex_weights(mesh: &TriMesh, topo: &Topology, opts: &ProcessOptions) -> Vec
 /// converges, carries about 1 rad.
 const LARGE_TOTAL_DEFECT_RAD: f64 = std::f64::consts::PI;
 
-/// Median |2π − θ| over the input's interior vertices (rad) above which a piece that does not
-/// converge is called rough in its error, instead of the Gauss–Bonnet hints. Measured: smooth
-/// real meshes 0.000–0.004 (igl_face, mountain_disk, igl_lilium, igl_snail, igl_inspired_mesh),
-/// a coarse hand 0.042 (smpl_hand_lowres); the noisy scan remeshed to 8 mm 0.17 (its trimmed
-/// pieces 0.155–0.164), 0.006 after ten Taubin steps. Noise makes the total defect a sum of
-/// spikes (+4 to +11 rad on the scan's legs, +0.34 on the clean body's thigh), so the
-/// cup/saddle reading of it would mislead.
-const ROUGH_MEDIAN_DEFECT_RAD: f64 = 0.1;
-/// …over at least this many interior vertices: over a handful the median is the shape's own
-/// curvature, not noise (a cone's one interior vertex, a coarse cup's dozen: their defects are
-/// large because their vertices are few), and the Gauss–Bonnet hints apply. The rough pieces
-/// measured have thousands.
-const ROUGH_MIN_INTERIOR: usize = 30;
-
 type PieceOutcome = (Vec<[f64; 3]>, Vec<u32>, PieceReport);
 
 fn run_piece(
@@ -448,9 +434,8 @@ fn run_piece(
             }
         ));
     }
-    let roughness = (!report.converged && theta0.len() >= ROUGH_MIN_INTERIOR)
-        .then(|| median_abs_defect(&theta0));
-    if let Some(median) = roughness.filter(|&m| m > ROUGH_MEDIAN_DEFECT_RAD) {
+    let roughness = (!report.converged).then(|| rough_median(&theta0)).flatten();
+    if let Some(median) = roughness {
         let hint = format!(
             "the surface is rough: the median |2π − θ| of its interior vertices is {median:.3} rad (smooth surfaces at a working resolution: below 0.05), i.e. scan noise, and its total angle defect ({:.3} rad) is mostly the noise's; smooth the scan or remesh it coarser before processing",
             report.input_total_defect_rad
@@ -520,19 +505,6 @@ fn at_least_as_good(report: &PieceReport, other: &PieceReport) -> bool {
 /// input area, `AREA_HOLD_SLACK` in src/pull_back.rs), far below the 0.001 % any report prints.
 /// The detail target's |area change| is never above the zero target's by more.
 pub const AREA_TIE_PERCENT: f64 = 100.0 * pull_back::AREA_HOLD_SLACK;
-
-/// Median |2π − θ| over the interior vertices of the piece's input (`theta0`).
-fn median_abs_defect(theta0: &[f64]) -> f64 {
-    let mut d: Vec<f64> = theta0
-        .iter()
-        .map(|t| (std::f64::consts::TAU - t).abs())
-        .collect();
-    if d.is_empty() {
-        return 0.0;
-    }
-    let mid = d.len() / 2;
-    *d.select_nth_unstable_by(mid, f64::total_cmp).1
-}
 
 fn summarise(
     input: &TriMesh,
