@@ -369,33 +369,9 @@ pub fn run(
         // Kept only if nearer θ = 2π than every attempt (its start was one of them).
         tally.consider(merit(&out), out, rep);
     }
-    // Last, on a rough piece (scan noise, `piece::rough_median`), the direct solve from the
-    // input under the shaped damping: where the identity damping's attempts and the shaped
-    // hierarchy stall (the 10 mm scan wetsuit's front-right leg at 7e-4–1.6e-2 on scans
-    // perturbed by 1e-12), it converges. It runs only after every other attempt has failed,
-    // so a piece that converges keeps its path bit for bit; on smooth pieces that fail it
-    // was measured no better (the real meshes, the body patches) and costs a direct solve
-    // (docs/algorithms/flattenable.md, "Rough scan pieces: the shaped direct solve").
-    if shaped_allowed(opts) && rough_median(&piece.input_theta()).is_some() {
-        let shaped = ProcessOptions {
-            damping: Damping::GraphLaplacian,
-            ..opts.clone()
-        };
-        tally
-            .notes
-            .push("solved again from the input with graph-Laplacian damping".into());
-        let mut rep = fresh(report);
-        let out = robust::run(piece, &shaped, &mut rep).positions;
-        if rep.converged {
-            *report = tally.converged(rep);
-            return Ok(out);
-        }
-        tally.notes.push(format!(
-            "the direct solve with graph-Laplacian damping did not converge (best θ_err {:.1e} in {} iterations)",
-            best_reached(&rep, false),
-            rep.iterations
-        ));
-        tally.consider(merit(&out), out, rep);
+    // Last, on a rough piece, the direct solve under the shaped damping (`shaped_direct`).
+    if let Some(out) = shaped_direct(piece, opts, &merit, &mut tally, report) {
+        return Ok(out);
     }
     let Some((out, kept)) = tally.best() else {
         // Every hierarchy was abandoned and the direct solve already ran first: impossible
@@ -404,6 +380,87 @@ pub fn run(
     };
     *report = kept;
     Ok(out)
+}
+
+/// A piece the hierarchies do not apply to (`applies`): the direct solve, then on a rough
+/// piece, if it did not converge, the direct solve under the shaped damping
+/// ([`shaped_direct`]; the rough 12×12 grid of `tests/process.rs` converges so in 17
+/// iterations where the direct solve stalls at 6.3e-2). A piece that converges, or is not
+/// rough, gets the direct solve alone, as before.
+pub fn run_direct(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport) -> Vec<[f64; 3]> {
+    let start = report.clone();
+    let out = robust::run(piece, opts, report).positions;
+    if report.converged || !shaped_direct_applies(piece, opts) {
+        return out;
+    }
+    let merit = |p: &[[f64; 3]]| {
+        let mut t = vec![0.0; piece.layout.n()];
+        piece.layout.theta(p, &mut t);
+        Piece::errors(&t).1
+    };
+    let mut tally = Tally::default();
+    let direct = std::mem::replace(report, start);
+    tally.notes.push(format!(
+        "the direct solve did not converge (best θ_err {:.1e} in {} iterations)",
+        best_reached(&direct, false),
+        direct.iterations
+    ));
+    tally.consider(merit(&out), out, direct);
+    if let Some(out) = shaped_direct(piece, opts, &merit, &mut tally, report) {
+        return out;
+    }
+    let (out, kept) = tally
+        .best()
+        .unwrap_or_else(|| unreachable!("the direct solve was considered"));
+    *report = kept;
+    out
+}
+
+/// Whether [`shaped_direct`] runs for `piece` under `opts`: with the rescue on, the shaped
+/// damping not the run's own already, and a rough piece (`piece::rough_median`).
+fn shaped_direct_applies(piece: &Piece, opts: &ProcessOptions) -> bool {
+    shaped_allowed(opts) && rough_median(&piece.input_theta()).is_some()
+}
+
+/// The last attempt on a rough piece (scan noise, `piece::rough_median`) whose other attempts
+/// all failed: the direct solve from the input under `Damping::GraphLaplacian`. Where the
+/// identity damping's attempts and the shaped hierarchy stall (the 10 mm scan wetsuit's
+/// front-right leg at 7e-4–1.6e-2 on scans perturbed by 1e-12), it converges. It runs only
+/// after every other attempt has failed, so a piece that converges keeps its path bit for
+/// bit; on smooth pieces that fail it was measured no better (the real meshes, the body
+/// patches) and costs a direct solve (docs/algorithms/flattenable.md, "Rough scan pieces: the
+/// shaped direct solve"). Its positions when it converges (`report` then set), else `None`
+/// (the attempt considered in `tally`).
+fn shaped_direct(
+    piece: &Piece,
+    opts: &ProcessOptions,
+    merit: &dyn Fn(&[[f64; 3]]) -> f64,
+    tally: &mut Tally,
+    report: &mut PieceReport,
+) -> Option<Vec<[f64; 3]>> {
+    if !shaped_direct_applies(piece, opts) {
+        return None;
+    }
+    let shaped = ProcessOptions {
+        damping: Damping::GraphLaplacian,
+        ..opts.clone()
+    };
+    tally
+        .notes
+        .push("solved again from the input with graph-Laplacian damping".into());
+    let mut rep = fresh(report);
+    let out = robust::run(piece, &shaped, &mut rep).positions;
+    if rep.converged {
+        *report = std::mem::take(tally).converged(rep);
+        return Some(out);
+    }
+    tally.notes.push(format!(
+        "the direct solve with graph-Laplacian damping did not converge (best θ_err {:.1e} in {} iterations)",
+        best_reached(&rep, false),
+        rep.iterations
+    ));
+    tally.consider(merit(&out), out, rep);
+    None
 }
 
 /// Whether [`shaped_rescue`] may run under `opts`: with the rescue on, and not when the

@@ -12,7 +12,6 @@ use crate::piece::{Piece, rough_median};
 use crate::report::{PieceReport, ProcessReport};
 use crate::{
     FlattenableError, Mode, ProcessOptions, Target, Update, coarse_to_fine, paper, pull_back,
-    robust,
 };
 
 /// The result of [`process`]: the mesh with new positions (same connectivity, attributes
@@ -363,7 +362,7 @@ fn run_piece(
             if coarse_to_fine::applies(local.face_count(), opts) {
                 coarse_to_fine::run((&piece, &local, &w_local), &mut chain, opts, report)
             } else {
-                Ok(robust::run(&piece, opts, report).positions)
+                Ok(coarse_to_fine::run_direct(&piece, opts, report))
             }
         };
         match opts.mode {

@@ -227,12 +227,7 @@ fn options_read_from_toml_like_json_with_documented_defaults() {
 #[test]
 fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
     use flatcut_flattenable::FlattenableError;
-    // Height noise of ±0.15 on a 1/11 spacing (deterministic hash): median |2π − θ| ~0.4 rad.
-    let noise = |x: f64, y: f64| {
-        let h = ((x * 12.9898 + y * 78.233).sin() * 43_758.545).fract();
-        0.15 * (2.0 * h.abs() - 1.0)
-    };
-    let rough = common::grid(12, 0.5, |x, y| 0.3 * (x * x - y * y) + noise(x, y));
+    let rough = noisy_saddle();
     let smooth = common::saddle(12);
     let opts = cut_off_after(1);
     let messages = |mesh| match process(mesh, &opts) {
@@ -271,6 +266,57 @@ fn an_unconverged_rough_piece_is_called_rough_and_a_smooth_one_is_not() {
 /// (the library uses atan2), and the number of edges grown by more than `limit_deg`.
 /// The default options with a direct solve cut off after `iterations`, so that a piece stops
 /// unconverged.
+/// The 12×12 saddle z = 0.3 (x² − y²) on [−0.5, 0.5]² with height noise of ±0.15 on its
+/// 1/11 spacing (a deterministic hash): median |2π − θ| ~0.4 rad, rough by any measure.
+fn noisy_saddle() -> TriMesh {
+    let noise = |x: f64, y: f64| {
+        let h = ((x * 12.9898 + y * 78.233).sin() * 43_758.545).fract();
+        0.15 * (2.0 * h.abs() - 1.0)
+    };
+    common::grid(12, 0.5, |x, y| 0.3 * (x * x - y * y) + noise(x, y))
+}
+
+/// A rough piece too small for the coarse-to-fine hierarchies (the noisy 12×12 saddle, 242
+/// faces) converges through the direct solve under the graph-Laplacian damping, the last
+/// attempt on a rough piece: the mesh crate's angle sums (not the solver's) are 2π to the
+/// tolerance and no face flips. Without the rescue, the direct solve alone stalls far from
+/// θ = 2π (measured 6.3e-2).
+#[test]
+fn a_small_rough_piece_converges_through_the_shaped_direct_solve() {
+    let rough = noisy_saddle();
+    let r = process(&rough, &ProcessOptions::default()).unwrap();
+    let p = &r.report.pieces[0];
+    assert!(
+        p.messages
+            .iter()
+            .any(|m| m == "solved again from the input with graph-Laplacian damping"),
+        "{:?}",
+        p.messages
+    );
+    let topo = flatcut_mesh::Topology::build(&r.mesh).unwrap();
+    let worst = flatcut_mesh::geometry::angle_defects(&r.mesh.positions, &r.mesh.faces, &topo)
+        .iter()
+        .flatten()
+        .map(|d| d.abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-9, "max |2π − θ| {worst}");
+    assert_eq!(p.folded_faces, 0);
+    assert_eq!(common::boundary_changed(&rough, &r.mesh), 0);
+    let direct_alone = ProcessOptions {
+        coarse_to_fine: flatcut_flattenable::CoarseToFine {
+            rescue: false,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    match process(&rough, &direct_alone) {
+        Err(flatcut_flattenable::FlattenableError::NotConverged { best_theta_err, .. }) => {
+            assert!(best_theta_err > 1e-3, "{best_theta_err}")
+        }
+        other => panic!("expected NotConverged, got {:?}", other.map(|_| ())),
+    }
+}
+
 fn cut_off_after(iterations: usize) -> ProcessOptions {
     ProcessOptions {
         max_iterations: Some(iterations),
