@@ -5,7 +5,7 @@
 //! where the residual sits; speed [SIZES=…, REPS, TRACE=1, STEP_RATIO=1,
 //! BEST_OF=20 (kernel timings), ONLY_TARGET=zero|detail|none, SOLVE_HASH=1 (the bits of one solve)]; saddles [SEEDS=…, DIAG=1], the
 //! round-off robustness check; SHAPE=bcap for the bench cap, SHAPE=para [A=0.1, JITTER=0.3] for a shallow paraboloid; random [COUNT, NMIN, NMAX, SEED,
-//! TARGET]: a corpus of random pieces).
+//! TARGET, ROUGH]: a corpus of random pieces).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 
@@ -1200,7 +1200,10 @@ fn main() {
 /// options, `TARGET=zero|detail` (default detail). Per piece one line (faces, converged,
 /// iterations, factorisations, seconds, RMS displacement, area change, first message) and
 /// the totals: how a change to the method does on pieces nobody chose. `ONLY=k`: piece k
-/// alone, with its messages and θ_err per iteration.
+/// alone, with its messages and θ_err per iteration. `ROUGH=a`: the same pieces with height
+/// noise of up to a spacings per vertex, as `tests/properties.rs`'s rough pieces (scan noise:
+/// median |2π − θ| above 0.1 rad from a ≈ 0.5), from a second sequence so that the corpus
+/// is the same for every a.
 fn random() {
     let count: usize = env_or("COUNT", 60);
     let (nmin, nmax): (usize, usize) = (env_or("NMIN", 33), env_or("NMAX", 45));
@@ -1213,6 +1216,7 @@ fn random() {
         coarse_to_fine: c2f_from_env(),
         ..Default::default()
     };
+    let rough: f64 = env_or("ROUGH", 0.0);
     let mut next = common::uniform(env_or("SEED", 0x2026_1127));
     // ONLY=k: piece k alone, with every message and its θ_err per iteration.
     let only: Option<usize> = std::env::var("ONLY").ok().and_then(|s| s.parse().ok());
@@ -1223,7 +1227,12 @@ fn random() {
             .map(|_| (0.6 * next() - 0.3, 0.6 * next() - 0.3))
             .collect();
         let c: [f64; 7] = std::array::from_fn(|_| next() - 0.5);
-        let mesh = common::random_piece(n, &jitter, c);
+        let mut mesh = common::random_piece(n, &jitter, c);
+        let mut noise = common::uniform(0x5EED_0000 + k as u64);
+        let h = 2.0 / (n - 1) as f64;
+        for p in &mut mesh.positions {
+            p[2] += rough * (2.0 * noise() - 1.0) * h;
+        }
         if only.is_some_and(|only| only != k) {
             continue;
         }
