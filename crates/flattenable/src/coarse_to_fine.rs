@@ -204,11 +204,7 @@ pub fn run(
     let mut seen = Seen::default();
     // The best state of a fine level cut by its budget near θ = 2π (its merit).
     let mut crawler: Option<(f64, Vec<[f64; 3]>)> = None;
-    let merit = |p: &[[f64; 3]]| {
-        let mut t = vec![0.0; piece.layout.n()];
-        piece.layout.theta(p, &mut t);
-        Piece::errors(&t).1
-    };
+    let merit = |p: &[[f64; 3]]| merit_at(piece, p);
     // The shaped rescue hierarchy, tried after a hand-over or after the other attempts.
     let shaped = |chain: &mut Chain, tally: &mut Tally, report: &mut PieceReport| {
         shaped_rescue((piece, local, w_local), chain, opts, &merit, tally, report)
@@ -382,6 +378,13 @@ pub fn run(
     Ok(out)
 }
 
+/// ‖θ − 2π‖² of `piece` at `positions`: what the attempts are compared by.
+fn merit_at(piece: &Piece, positions: &[[f64; 3]]) -> f64 {
+    let mut theta = vec![0.0; piece.layout.n()];
+    piece.layout.theta(positions, &mut theta);
+    Piece::errors(&theta).1
+}
+
 /// A piece the hierarchies do not apply to (`applies`): the direct solve, then on a rough
 /// piece, if it did not converge, the direct solve under the shaped damping
 /// ([`shaped_direct`]; the rough 12×12 grid of `tests/process.rs` converges so in 17
@@ -393,11 +396,7 @@ pub fn run_direct(piece: &Piece, opts: &ProcessOptions, report: &mut PieceReport
     if report.converged || !shaped_direct_applies(piece, opts) {
         return out;
     }
-    let merit = |p: &[[f64; 3]]| {
-        let mut t = vec![0.0; piece.layout.n()];
-        piece.layout.theta(p, &mut t);
-        Piece::errors(&t).1
-    };
+    let merit = |p: &[[f64; 3]]| merit_at(piece, p);
     let mut tally = Tally::default();
     let direct = std::mem::replace(report, start);
     tally.notes.push(format!(

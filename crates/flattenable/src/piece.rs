@@ -418,11 +418,11 @@ impl Piece {
 
 /// Median |2π − θ| over the input's interior vertices (rad) above which a piece is rough (scan
 /// noise): one that does not converge is called so in its error, instead of the Gauss–Bonnet
-/// hints, and the coarse-to-fine rescue ends with the direct solve under the shaped damping
-/// (`coarse_to_fine::run`). Measured: smooth
-/// real meshes 0.000–0.004 (igl_face, mountain_disk, igl_lilium, igl_snail, igl_inspired_mesh),
-/// a coarse hand 0.042 (smpl_hand_lowres); the noisy scan remeshed to 8 mm 0.17 (its trimmed
-/// pieces 0.155–0.164), 0.006 after ten Taubin steps. Noise makes the total defect a sum of
+/// hints, and its attempts end with the direct solve under the shaped damping
+/// (`coarse_to_fine::shaped_direct`). Measured: smooth real meshes 0.000–0.004 (igl_face,
+/// mountain_disk, igl_lilium, igl_snail, igl_inspired_mesh), a coarse hand 0.042
+/// (smpl_hand_lowres); the noisy scan remeshed to 8 mm 0.17 (its trimmed pieces
+/// 0.155–0.164), 0.006 after ten Taubin steps. Noise makes the total defect a sum of
 /// spikes (+4 to +11 rad on the scan's legs, +0.34 on the clean body's thigh), so the
 /// cup/saddle reading of it would mislead.
 const ROUGH_MEDIAN_DEFECT_RAD: f64 = 0.1;
