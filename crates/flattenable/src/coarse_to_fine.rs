@@ -366,7 +366,9 @@ pub fn run(
         tally.consider(merit(&out), out, rep);
     }
     // Last, on a rough piece, the direct solve under the shaped damping (`shaped_direct`).
-    if let Some(out) = shaped_direct(piece, opts, &merit, &mut tally, report) {
+    if shaped_direct_applies(piece, opts)
+        && let Some(out) = shaped_direct(piece, opts, &merit, &mut tally, report)
+    {
         return Ok(out);
     }
     let Some((out, kept)) = tally.best() else {
@@ -428,8 +430,8 @@ fn shaped_direct_applies(piece: &Piece, opts: &ProcessOptions) -> bool {
 /// after every other attempt has failed, so a piece that converges keeps its path bit for
 /// bit; on smooth pieces that fail it was measured no better (the real meshes, the body
 /// patches) and costs a direct solve (docs/algorithms/flattenable.md, "Rough scan pieces: the
-/// shaped direct solve"). Its positions when it converges (`report` then set), else `None`
-/// (the attempt considered in `tally`).
+/// shaped direct solve"). For the pieces of [`shaped_direct_applies`]. Its positions when it
+/// converges (`report` then set), else `None` (the attempt considered in `tally`).
 fn shaped_direct(
     piece: &Piece,
     opts: &ProcessOptions,
@@ -437,9 +439,6 @@ fn shaped_direct(
     tally: &mut Tally,
     report: &mut PieceReport,
 ) -> Option<Vec<[f64; 3]>> {
-    if !shaped_direct_applies(piece, opts) {
-        return None;
-    }
     let shaped = ProcessOptions {
         damping: Damping::GraphLaplacian,
         ..opts.clone()
