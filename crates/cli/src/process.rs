@@ -12,8 +12,8 @@ use std::time::Duration;
 
 use anyhow::Context;
 use flatcut_flattenable::{
-    Damping, FlattenableError, IterationDone, Laplacian, Mode, ProcessOptions, ProcessReport,
-    Processed, ProgressHook, Target, Update,
+    Damping, FlattenableError, HoleRims, IterationDone, Laplacian, Mode, ProcessOptions,
+    ProcessReport, Processed, ProgressHook, Target, Update,
 };
 use flatcut_io::{Units, WriteOptions};
 use flatcut_mesh::{Topology, TriMesh};
@@ -72,6 +72,12 @@ pub struct ProcessArgs {
     /// a last rescue). docs/algorithms/flattenable.md.
     #[arg(long, default_value = "identity", value_parser = parse_damping)]
     pub damping: Damping,
+    /// The rims of a piece's holes (its boundary loops but the longest): `fixed` (never move,
+    /// like the outline; on a curved piece θ = 2π then leaves each hole open in the plane,
+    /// and the report says by how much) or `free` (they move, and every hole closes, so the
+    /// piece flattens without stretch).
+    #[arg(long, default_value = "fixed", value_parser = parse_hole_rims)]
+    pub hole_rims: HoleRims,
     /// Also write the report as JSON to this file.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -114,6 +120,14 @@ fn parse_damping(s: &str) -> Result<Damping, String> {
         _ => Err(format!(
             "unknown damping '{s}': use identity or graph-laplacian"
         )),
+    }
+}
+
+fn parse_hole_rims(s: &str) -> Result<HoleRims, String> {
+    match s {
+        "fixed" => Ok(HoleRims::Fixed),
+        "free" => Ok(HoleRims::Free),
+        _ => Err(format!("unknown hole rims '{s}': use fixed or free")),
     }
 }
 
@@ -280,6 +294,7 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<()> {
         boundary_ring_weight: args.boundary_ring_weight,
         tolerance_rad: args.tolerance,
         local_polish: !args.no_local_polish,
+        hole_rims: args.hole_rims,
         damping: args.damping,
         progress: spinner.as_ref().map_or_else(ProgressHook::default, |bar| {
             let bar = bar.clone();

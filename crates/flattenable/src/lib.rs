@@ -17,6 +17,8 @@ pub mod angle_gradient;
 mod coarse_to_fine;
 pub mod coarsen;
 mod error;
+mod fan_fill;
+pub mod hole_closure;
 pub mod laplacian;
 pub mod least_norm;
 mod local_polish;
@@ -32,7 +34,7 @@ mod smoothed_step;
 
 pub use error::FlattenableError;
 pub use options::{
-    CoarseToFine, Damping, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update,
+    CoarseToFine, Damping, HoleRims, Laplacian, Mode, ProcessOptions, Prolongation, Target, Update,
 };
 pub use process::{AREA_TIE_PERCENT, Processed, process};
 pub use progress::{IterationDone, ProgressHook};

@@ -161,6 +161,25 @@ impl Default for CoarseToFine {
     }
 }
 
+/// What happens at the rims of a piece's holes: its boundary loops other than the outline
+/// (the longest loop).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HoleRims {
+    /// Fixed like the outline: boundary vertices never move. θ = 2π then flattens the piece
+    /// without stretch only where its holes already close in the plane (a flat or
+    /// developable piece): on a curved one each hole keeps the Gaussian curvature it
+    /// encloses, and the pattern stretches around it. The report measures every hole
+    /// ([`crate::PieceReport::holes`]) and a message says which do not close.
+    #[default]
+    Fixed,
+    /// Each hole filled for the processing (a fan from the rim's centroid, removed
+    /// afterwards): the rims move like interior vertices, every hole closes, and the piece
+    /// flattens without stretch. The outline stays fixed; the report says how far the rims
+    /// moved.
+    Free,
+}
+
 /// Options of [`crate::process`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -221,6 +240,10 @@ pub struct ProcessOptions {
     /// measured on sphere caps of 19.6k–100k faces, 15 % less CPU in all (the 100k cap 13.0
     /// → 10.0 s) for the same surface (docs/algorithms/flattenable.md, "Local polish").
     pub local_polish: bool,
+    /// The rims of a piece's holes: `Fixed` (the default: boundary vertices never move, and
+    /// θ = 2π does not close a hole on a curved piece) or `Free` (they move so that every
+    /// hole closes). See [`HoleRims`].
+    pub hole_rims: HoleRims,
     /// Robust mode: shape of the step's damping. Default `Identity`; the coarse-to-fine
     /// rescue runs one more hierarchy with `GraphLaplacian` when all else failed (see
     /// [`Damping`]).
@@ -254,6 +277,7 @@ impl Default for ProcessOptions {
             min_angle_deg: 0.5,
             coarse_to_fine: CoarseToFine::default(),
             local_polish: true,
+            hole_rims: HoleRims::Fixed,
             damping: Damping::Identity,
             progress: ProgressHook::default(),
         }

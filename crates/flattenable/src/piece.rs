@@ -8,6 +8,7 @@ use flatcut_mesh::geometry::{corner_angles, face_areas, face_normals};
 use flatcut_mesh::vec3::{angle, cross, dot, sub};
 use flatcut_mesh::{Topology, TriMesh};
 
+use crate::hole_closure::{HoleClosure, Holes};
 use crate::least_norm::Layout;
 use crate::report::PieceReport;
 
@@ -27,6 +28,8 @@ pub struct Piece {
     pub layout: Layout,
     /// w per interior vertex.
     pub weights: Vec<f64>,
+    /// Every boundary loop but the outline: what must close besides θ = 2π.
+    pub holes: Holes,
     guard: Guard,
 }
 
@@ -109,6 +112,7 @@ impl Piece {
             vertex_map,
             faces: local.faces.clone(),
             pos0: local.positions.clone(),
+            holes: Holes::of(&topo, &local.positions),
             topo,
             layout,
             weights,
@@ -250,6 +254,12 @@ impl Piece {
             0.0
         };
         report.folded_faces = self.folded_faces(positions);
+        report.holes = self.holes.closures(positions, &self.faces, &self.topo);
+        report.final_hole_err = report
+            .holes
+            .iter()
+            .map(HoleClosure::error_rad)
+            .fold(0.0, f64::max);
         let normals = face_normals(positions, &self.faces);
         let n0 = &self.guard.normals0;
         // How far the surface turned: the largest angle between a face's normal and its

@@ -8,10 +8,13 @@ use flatcut_mesh::{FaceId, Topology, TriMesh, VertexId};
 use rayon::prelude::*;
 
 use crate::coarse_to_fine::Chain;
+use crate::fan_fill::fan_filled;
+use crate::hole_closure::{HoleClosure, Holes};
 use crate::piece::{Piece, rough_median};
 use crate::report::{PieceReport, ProcessReport};
 use crate::{
-    FlattenableError, Mode, ProcessOptions, Target, Update, coarse_to_fine, paper, pull_back,
+    FlattenableError, HoleRims, Mode, ProcessOptions, Target, Update, coarse_to_fine, paper,
+    pull_back,
 };
 
 /// The result of [`process`]: the mesh with new positions (same connectivity, attributes
@@ -38,13 +41,16 @@ impl std::fmt::Debug for Processed {
 }
 
 /// Makes every piece of `mesh` flattenable (θ = 2π at every interior vertex), moving the
-/// interior vertices as little as possible; boundary vertices never move.
+/// interior vertices as little as possible; boundary vertices never move (but for the rims
+/// of holes under `HoleRims::Free`).
 ///
 /// Preconditions checked here (errors name the element, in input ids): finite positions,
 /// indices in range, every piece open (a boundary loop), edge- and vertex-manifold,
-/// consistently oriented, no degenerate face, interior valence ≥ 3. Pieces with holes are
-/// fine (all loops fixed). A piece without interior vertex comes back unchanged, with a
-/// message in its report.
+/// consistently oriented, no degenerate face, interior valence ≥ 3. Pieces with holes keep
+/// every loop fixed (`HoleRims::Fixed`), and then θ = 2π does not close a hole on a curved
+/// piece: the report measures each hole and says which stay open; `HoleRims::Free` lets the
+/// rims move so that they close. A piece without interior vertex comes back unchanged, with
+/// a message in its report.
 ///
 /// Errors: the checks above; paper mode's singular or diverged iterations
 /// ([`FlattenableError::Singular`], [`FlattenableError::Diverged`]); robust mode's
@@ -67,7 +73,7 @@ pub fn process(mesh: &TriMesh, opts: &ProcessOptions) -> Result<Processed, Flatt
     let outcomes: Vec<Result<PieceOutcome, FlattenableError>> = comp_faces
         .par_iter()
         .enumerate()
-        .map(|(ci, faces)| run_piece(mesh, ci, faces, &weights, opts))
+        .map(|(ci, faces)| run_piece_with_rims(mesh, ci, faces, &weights, opts))
         .collect();
 
     let mut out = mesh.clone();
@@ -284,6 +290,70 @@ const LARGE_TOTAL_DEFECT_RAD: f64 = std::f64::consts::PI;
 
 type PieceOutcome = (Vec<[f64; 3]>, Vec<u32>, PieceReport);
 
+/// [`run_piece`], under `HoleRims::Free` on the piece with its holes filled
+/// ([`fan_filled`]), the fills then dropped and the result measured on the piece itself (its
+/// θ, its holes, its displacement and folds).
+fn run_piece_with_rims(
+    mesh: &TriMesh,
+    index: usize,
+    faces: &[u32],
+    weights: &[f64],
+    opts: &ProcessOptions,
+) -> Result<PieceOutcome, FlattenableError> {
+    if opts.hole_rims == HoleRims::Fixed {
+        return run_piece(mesh, index, faces, weights, opts);
+    }
+    let start = Instant::now();
+    let (local, map) = flatcut_mesh::submesh(mesh, faces);
+    let topo = Topology::build(&local)?;
+    let holes = Holes::of(&topo, &local.positions);
+    if holes.is_empty() {
+        return run_piece(mesh, index, faces, weights, opts);
+    }
+    let filled = fan_filled(&local, &holes);
+    let w_local: Vec<f64> = map.iter().map(|&g| weights[g as usize]).collect();
+    let mut w_filled = w_local.clone();
+    w_filled.resize(filled.vertex_count(), 1.0);
+    let all: Vec<u32> = (0..filled.face_count() as u32).collect();
+    let (pos, filled_map, mut report) = run_piece(&filled, index, &all, &w_filled, opts)?;
+    let mut positions = local.positions.clone();
+    for (p, &v) in pos.iter().zip(&filled_map) {
+        if let Some(slot) = positions.get_mut(v as usize) {
+            *slot = *p;
+        }
+    }
+    let piece =
+        Piece::new(index, map, &local, topo, &w_local, opts.min_angle_deg).map_err(|e| {
+            FlattenableError::Singular {
+                piece: index,
+                iteration: 0,
+                detail: format!("{e:?}"),
+            }
+        })?;
+    let theta0 = piece.input_theta();
+    report.vertices = local.vertex_count();
+    report.faces = local.face_count();
+    report.interior_vertices = piece.layout.n();
+    report.boundary_loops = piece.topo.boundary_loops().len();
+    piece.measure(&positions, &theta0, &mut report);
+    let rim_moved_mm = holes
+        .rims()
+        .flatten()
+        .map(|v| flatcut_mesh::vec3::dist(positions[v.idx()], local.positions[v.idx()]))
+        .fold(0.0, f64::max);
+    report.messages.push(format!(
+        "hole rims free: {} holes filled by fans for the processing and the fills dropped; the rims moved by up to {rim_moved_mm:.4} mm (the outline is fixed)",
+        holes.len()
+    ));
+    if report.converged && report.holes.iter().any(|h| !h.closes(opts.tolerance_rad)) {
+        report
+            .messages
+            .push(holes_open(&report.holes, opts.tolerance_rad));
+    }
+    report.seconds = start.elapsed().as_secs_f64();
+    Ok((positions, piece.vertex_map, report))
+}
+
 fn run_piece(
     mesh: &TriMesh,
     index: usize,
@@ -416,6 +486,11 @@ fn run_piece(
         }
     };
     piece.measure(&positions, &theta0, &mut report);
+    if report.converged && report.holes.iter().any(|h| !h.closes(opts.tolerance_rad)) {
+        report
+            .messages
+            .push(holes_open(&report.holes, opts.tolerance_rad));
+    }
     if opts.mode == Mode::Robust
         && opts.target == Target::Detail
         && !pull_back::allowed(piece.faces.len())
@@ -461,6 +536,38 @@ fn run_piece(
     }
     report.seconds = start.elapsed().as_secs_f64();
     Ok((positions, piece.vertex_map, report))
+}
+
+/// What is open about a piece's holes, for its messages: how many of them do not close within
+/// `tolerance_rad` and the worst one's turning residual and gap.
+fn holes_open(holes: &[HoleClosure], tolerance_rad: f64) -> String {
+    let open: Vec<&HoleClosure> = holes.iter().filter(|h| !h.closes(tolerance_rad)).collect();
+    let worst = open
+        .iter()
+        .max_by(|a, b| a.error_rad().total_cmp(&b.error_rad()));
+    let Some(w) = worst else {
+        return "every hole closes in the plane".into();
+    };
+    let what = format!(
+        "{} of its {} holes do not close in the plane, though θ = 2π (the worst, boundary loop {} of {} vertices and {:.1} mm: its development turns {:+.3e} rad from once around, the Gaussian curvature it encloses, and ends {:.3} mm from its start)",
+        open.len(),
+        holes.len(),
+        w.loop_index,
+        w.vertices,
+        w.length_mm,
+        w.turning_residual_rad,
+        w.gap_mm
+    );
+    // Half a turn or more short: the piece wraps around the hole (a sleeve, a leg, a skirt).
+    if w.turning_residual_rad.abs() > std::f64::consts::PI {
+        format!(
+            "{what}: the piece wraps around that hole like a band or tube, and with the rim held it cannot be laid flat; a seam from the hole to the outline can, and `hole_rims = \"free\"` only by moving the rim far"
+        )
+    } else {
+        format!(
+            "{what}, so its pattern stretches around them; with `hole_rims = \"free\"` (`--hole-rims free`) the rims move so that every hole closes, or a seam from each hole to the outline makes the piece a disk"
+        )
+    }
 }
 
 /// `a` on this thread and `b` at the same time on the thread pool, like `rayon::join`, and

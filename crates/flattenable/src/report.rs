@@ -7,6 +7,8 @@
 
 use serde::Serialize;
 
+use crate::hole_closure::HoleClosure;
+
 /// An interior edge whose bend (the angle between its two faces' normals) grew by more than
 /// this over the input's (degrees) counts as creased: see docs/algorithms/flattenable.md,
 /// "Creases", for the values measured on smooth and pleated results.
@@ -77,6 +79,12 @@ pub struct PieceReport {
     pub interior_vertices: usize,
     /// Boundary loops (1 for a disk; more for a piece with holes, all fixed).
     pub boundary_loops: usize,
+    /// Per hole (every boundary loop but the longest) of the returned positions: how it
+    /// develops in the plane. θ = 2π alone does not close a hole; one that does not close
+    /// stretches the pattern around it ([`crate::hole_closure`]).
+    pub holes: Vec<HoleClosure>,
+    /// The largest [`HoleClosure::error_rad`] over the holes (rad; 0 without holes).
+    pub final_hole_err: f64,
     /// Accepted iterations.
     pub iterations: usize,
     /// Robust mode: θ_err ≤ tolerance. Paper mode: the paper's terminal condition held.
