@@ -198,7 +198,9 @@ impl Holes {
 
     /// The constraint values and their gradients with respect to the interior vertices
     /// (`layout`'s order; one field per constraint, in the order of [`Holes::residuals`]),
-    /// with the rims held (their edge lengths are then constants).
+    /// with the rims held (their edge lengths are then constants): the rows a step holding
+    /// the holes would add to A (tried in the thirty-fifth session and not kept; see
+    /// docs/algorithms/flattenable.md, "Holes: θ = 2π does not close them").
     pub fn residuals_and_gradients(
         &self,
         positions: &[[f64; 3]],
