@@ -96,7 +96,11 @@ mod tests {
             let off = |p: [f64; 3]| (dot(p, p).sqrt() - radius).abs();
             let sagitta = off(centroid);
             assert!(sagitta > 0.5, "{sagitta}");
-            assert!(off(centre) < 0.2 * sagitta, "{} against {sagitta}", off(centre));
+            assert!(
+                off(centre) < 0.2 * sagitta,
+                "{} against {sagitta}",
+                off(centre)
+            );
         }
         // Every fan face runs along its rim edge backwards: the filled piece is a disk.
         let filled_topo = Topology::build(&filled).unwrap();
