@@ -173,10 +173,11 @@ pub enum HoleRims {
     /// ([`crate::PieceReport::holes`]) and a message says which do not close.
     #[default]
     Fixed,
-    /// Each hole filled for the processing (a fan from the rim's centroid, removed
-    /// afterwards): the rims move like interior vertices, every hole closes, and the piece
-    /// flattens without stretch. The outline stays fixed; the report says how far the rims
-    /// moved.
+    /// Each hole filled for the processing (a fan whose centre continues the surface,
+    /// removed afterwards): the rims move like interior vertices, every hole closes, and the
+    /// piece flattens without stretch. The outline stays fixed; the report says how far the
+    /// rims moved. Where the filled piece does not converge, the run with the rims fixed is
+    /// returned instead, and a message says so.
     Free,
 }
 

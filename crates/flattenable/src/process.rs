@@ -315,7 +315,30 @@ fn run_piece_with_rims(
     let mut w_filled = w_local.clone();
     w_filled.resize(filled.vertex_count(), 1.0);
     let all: Vec<u32> = (0..filled.face_count() as u32).collect();
-    let (pos, filled_map, mut report) = run_piece(&filled, index, &all, &w_filled, opts)?;
+    let (pos, filled_map, mut report) = match run_piece(&filled, index, &all, &w_filled, opts) {
+        Ok(run) if run.2.converged => run,
+        other => {
+            // Filled, the piece did not become flat (or could not be processed): the run
+            // with the rims fixed, which holds the boundary and meets θ = 2π more often
+            // (docs/algorithms/flattenable.md, "Holes"), is the better result to return.
+            let filled_outcome = match &other {
+                Ok((_, _, run)) => format!("stopped at θ_err {:.1e} rad", run.final_theta_err),
+                Err(e) => format!("could not be processed ({e})"),
+            };
+            let (positions, vertex_map, mut report) = run_piece(mesh, index, faces, weights, opts)?;
+            report.messages.push(format!(
+                "hole rims free: the piece with its {} holes filled {filled_outcome}; the run with the rims fixed is returned{}",
+                holes.len(),
+                if report.converged {
+                    " (θ = 2π, its holes as they stay)"
+                } else {
+                    ""
+                }
+            ));
+            report.seconds = start.elapsed().as_secs_f64();
+            return Ok((positions, vertex_map, report));
+        }
+    };
     let mut positions = local.positions.clone();
     for (p, &v) in pos.iter().zip(&filled_map) {
         if let Some(slot) = positions.get_mut(v as usize) {
@@ -346,9 +369,11 @@ fn run_piece_with_rims(
         holes.len()
     ));
     if report.converged && report.holes.iter().any(|h| !h.closes(opts.tolerance_rad)) {
-        report
-            .messages
-            .push(holes_open(&report.holes, opts.tolerance_rad));
+        report.messages.push(holes_open(
+            &report.holes,
+            opts.tolerance_rad,
+            opts.hole_rims,
+        ));
     }
     report.seconds = start.elapsed().as_secs_f64();
     Ok((positions, piece.vertex_map, report))
@@ -487,9 +512,11 @@ fn run_piece(
     };
     piece.measure(&positions, &theta0, &mut report);
     if report.converged && report.holes.iter().any(|h| !h.closes(opts.tolerance_rad)) {
-        report
-            .messages
-            .push(holes_open(&report.holes, opts.tolerance_rad));
+        report.messages.push(holes_open(
+            &report.holes,
+            opts.tolerance_rad,
+            opts.hole_rims,
+        ));
     }
     if opts.mode == Mode::Robust
         && opts.target == Target::Detail
@@ -540,7 +567,7 @@ fn run_piece(
 
 /// What is open about a piece's holes, for its messages: how many of them do not close within
 /// `tolerance_rad` and the worst one's turning residual and gap.
-fn holes_open(holes: &[HoleClosure], tolerance_rad: f64) -> String {
+fn holes_open(holes: &[HoleClosure], tolerance_rad: f64, rims: HoleRims) -> String {
     let open: Vec<&HoleClosure> = holes.iter().filter(|h| !h.closes(tolerance_rad)).collect();
     let worst = open
         .iter()
@@ -561,11 +588,20 @@ fn holes_open(holes: &[HoleClosure], tolerance_rad: f64) -> String {
     // Half a turn or more short: the piece wraps around the hole (a sleeve, a leg, a skirt).
     if w.turning_residual_rad.abs() > std::f64::consts::PI {
         format!(
-            "{what}: the piece wraps around that hole like a band or tube, and with the rim held it cannot be laid flat; a seam from the hole to the outline can, and `hole_rims = \"free\"` only by moving the rim far"
+            "{what}: the piece wraps around that hole like a band or tube, and with the rim held it cannot be laid flat; a seam from the hole to the outline can{}",
+            if rims == HoleRims::Fixed {
+                ", and `hole_rims = \"free\"` only by moving the rim far"
+            } else {
+                ""
+            }
+        )
+    } else if rims == HoleRims::Fixed {
+        format!(
+            "{what}, so its pattern stretches around them; with `hole_rims = \"free\"` (`--hole-rims free`) the rims move so that every hole closes, or a seam from each hole to the outline makes the piece a disk"
         )
     } else {
         format!(
-            "{what}, so its pattern stretches around them; with `hole_rims = \"free\"` (`--hole-rims free`) the rims move so that every hole closes, or a seam from each hole to the outline makes the piece a disk"
+            "{what}, so its pattern stretches around them; a seam from each hole to the outline makes the piece a disk"
         )
     }
 }
