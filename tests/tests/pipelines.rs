@@ -931,3 +931,79 @@ fn a_piece_grain_turns_the_pattern_so_that_it_runs_up_the_sheet() {
         );
     }
 }
+
+/// The sheet with two holes on a sphere of radius 400 mm (tests/tests/holes.rs) as an OBJ in
+/// `dir`, and a pipeline on it with `process` as its `[process]` table.
+fn holed_sheet_toml(dir: &Path, process: &str) -> String {
+    let mut mesh = flatcut_mesh::shapes::patch_with_holes(200.0, 25);
+    for p in &mut mesh.positions {
+        p[2] = (400.0f64 * 400.0 - p[0] * p[0] - p[1] * p[1]).sqrt();
+    }
+    let obj = dir.join("holed-sheet.obj");
+    flatcut_io::write_mesh(&obj, &mesh, &Default::default()).unwrap();
+    format!(
+        r#"schema = 1
+name = "holed-sheet"
+
+[input]
+mesh = "{}"
+
+[[piece]]
+name = "sheet"
+seed = [0.0, 90.0, {}]
+
+[process]
+{process}
+
+[export]
+formats = ["svg"]
+"#,
+        obj.display(),
+        (400.0f64 * 400.0 - 90.0 * 90.0).sqrt()
+    )
+}
+
+#[test]
+fn a_piece_whose_holes_stay_open_is_warned_about_and_free_rims_close_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (fixed, _) = run_text(&holed_sheet_toml(tmp.path(), ""), tmp.path(), "fixed");
+    let piece = &fixed.report.pieces[0];
+    assert!(piece.process.converged);
+    assert!(
+        fixed
+            .report
+            .warnings
+            .iter()
+            .any(|w| w.contains("2 of its 2 holes do not close") && w.contains("hole_rims")),
+        "{:?}",
+        fixed.report.warnings
+    );
+    // The pattern stretches around the open holes (1.2e-2 measured by `flatcut flatten`).
+    assert!(
+        piece.flatten.max_edge_strain > 5e-3,
+        "{}",
+        piece.flatten.max_edge_strain
+    );
+
+    let (free, _) = run_text(
+        &holed_sheet_toml(tmp.path(), r#"hole_rims = "free""#),
+        tmp.path(),
+        "free",
+    );
+    let piece = &free.report.pieces[0];
+    assert!(piece.process.converged);
+    assert!(
+        !free
+            .report
+            .warnings
+            .iter()
+            .any(|w| w.contains("do not close")),
+        "{:?}",
+        free.report.warnings
+    );
+    assert!(
+        piece.flatten.max_edge_strain < 1e-6,
+        "{}",
+        piece.flatten.max_edge_strain
+    );
+}

@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use flatcut_flattenable::{FlattenableError, Processed};
+use flatcut_flattenable::{FlattenableError, HoleRims, Processed};
 use flatcut_io::{Format, Units, WriteOptions};
 use flatcut_lscm::{Pins, distortion, flatten_with_topology};
 use flatcut_mesh::shapes::{self, dress_form};
@@ -715,6 +715,33 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
                 p.spec.process.tolerance_rad,
                 pr.processed.report.final_theta_err
             ));
+        }
+        // θ = 2π does not close a hole on a curved piece: say so where the pattern will
+        // stretch around one (docs/algorithms/flattenable.md, "Holes").
+        let tolerance = p.spec.process.tolerance_rad;
+        if let Some(r) = r.filter(|r| r.converged) {
+            let open: Vec<_> = r.holes.iter().filter(|h| !h.closes(tolerance)).collect();
+            if let Some(worst) = open
+                .iter()
+                .max_by(|a, b| a.error_rad().total_cmp(&b.error_rad()))
+            {
+                let remedy = match p.spec.process.hole_rims {
+                    HoleRims::Fixed => {
+                        "`hole_rims = \"free\"` in [process] lets their rims move so that they close, or a seam from each hole to the outline makes the piece a disk"
+                    }
+                    HoleRims::Free => {
+                        "with its holes filled it did not converge, so its rims stayed fixed; a seam from each hole to the outline makes the piece a disk"
+                    }
+                };
+                warnings.push(format!(
+                    "piece {:?}: {} of its {} holes do not close in the plane though θ = 2π (the worst turns {:+.2e} rad from once around and leaves a {:.2} mm gap), so its pattern stretches around them; {remedy}",
+                    piece.name,
+                    open.len(),
+                    r.holes.len(),
+                    worst.turning_residual_rad,
+                    worst.gap_mm
+                ));
+            }
         }
         if f.summary.flipped_faces > 0 {
             warnings.push(format!(
