@@ -176,8 +176,10 @@ pub enum HoleRims {
     /// Each hole filled for the processing (a fan whose centre continues the surface,
     /// removed afterwards): the rims move like interior vertices, every hole closes, and the
     /// piece flattens without stretch. The outline stays fixed; the report says how far the
-    /// rims moved. Where the filled piece does not converge, the run with the rims fixed is
-    /// returned instead, and a message says so.
+    /// rims moved and how much their lengths changed: a rim that is a seam (a patch sewn
+    /// into the hole) then no longer matches its mate, so this is for cut-outs; a seam from
+    /// the hole to the outline keeps every seam's length. Where the filled piece does not
+    /// converge, the run with the rims fixed is returned instead, and a message says so.
     Free,
 }
 

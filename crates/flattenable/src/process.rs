@@ -364,8 +364,21 @@ fn run_piece_with_rims(
         .flatten()
         .map(|v| flatcut_mesh::vec3::dist(positions[v.idx()], local.positions[v.idx()]))
         .fold(0.0, f64::max);
+    // A rim's length is a seam's length when another piece is sewn into the hole.
+    let length = |p: &[[f64; 3]], rim: &[VertexId]| -> f64 {
+        (0..rim.len())
+            .map(|j| flatcut_mesh::vec3::dist(p[rim[j].idx()], p[rim[(j + 1) % rim.len()].idx()]))
+            .sum()
+    };
+    let rim_length_change_percent = holes
+        .rims()
+        .map(|rim| {
+            let before = length(&local.positions, rim);
+            100.0 * (length(&positions, rim) - before) / before
+        })
+        .fold(0.0f64, |m, c| if c.abs() > m.abs() { c } else { m });
     report.messages.push(format!(
-        "hole rims free: {} holes filled by fans for the processing and the fills dropped; the rims moved by up to {rim_moved_mm:.4} mm (the outline is fixed)",
+        "hole rims free: {} holes filled by fans for the processing and the fills dropped; the rims moved by up to {rim_moved_mm:.4} mm and their lengths changed by up to {rim_length_change_percent:+.3} % (the outline is fixed; a piece sewn into a hole no longer matches its rim by that much)",
         holes.len()
     ));
     if report.converged && report.holes.iter().any(|h| !h.closes(opts.tolerance_rad)) {
