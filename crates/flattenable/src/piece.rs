@@ -313,7 +313,7 @@ impl Piece {
             let kind = crate::report::CreaseKind::of(report.creased_defect_rad)
                 .map_or(String::new(), |k| format!(" ({})", k.advice()));
             report.messages.push(format!(
-                "the processed surface creases: {} edges bend by more than {:.0}° beyond the input's bend (up to {:.0}°, at input vertex {at} at ({x:.2}, {y:.2}, {z:.2}) mm), and the flattened piece folds there; the input's angle defect under the crease sums to {:+.3} rad{kind}",
+                "{CREASE_NOTE}: {} edges bend by more than {:.0}° beyond the input's bend (up to {:.0}°, at input vertex {at} at ({x:.2}, {y:.2}, {z:.2}) mm), and the flattened piece folds there; the input's angle defect under the crease sums to {:+.3} rad{kind}",
                 report.creased_edges,
                 crate::report::CREASE_DEG,
                 report.max_crease_deg,
@@ -425,6 +425,10 @@ impl Piece {
             .collect()
     }
 }
+
+/// How [`Piece::measure`]'s note on creases begins: a measure taken again on other vertices
+/// (the piece itself after its filled copy ran, `HoleRims::Free`) replaces the note by it.
+pub(crate) const CREASE_NOTE: &str = "the processed surface creases";
 
 /// Median |2π − θ| over the input's interior vertices (rad) above which a piece is rough (scan
 /// noise): one that does not converge is called so in its error, instead of the Gauss–Bonnet

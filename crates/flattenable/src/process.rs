@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use crate::coarse_to_fine::Chain;
 use crate::fan_fill::fan_filled;
 use crate::hole_closure::{HoleClosure, Holes};
-use crate::piece::{Piece, rough_median};
+use crate::piece::{CREASE_NOTE, Piece, rough_median};
 use crate::report::{PieceReport, ProcessReport};
 use crate::{
     FlattenableError, HoleRims, Mode, ProcessOptions, Target, Update, coarse_to_fine, paper,
@@ -354,6 +354,9 @@ fn run_piece_with_rims(
             }
         })?;
     let theta0 = piece.input_theta();
+    // The filled copy's note on creases names its own vertices and counts the fill's edges:
+    // the piece's own measure below writes the note again.
+    report.messages.retain(|m| !m.starts_with(CREASE_NOTE));
     report.vertices = local.vertex_count();
     report.faces = local.face_count();
     report.interior_vertices = piece.layout.n();

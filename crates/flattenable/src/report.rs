@@ -81,7 +81,10 @@ pub struct PieceReport {
     pub boundary_loops: usize,
     /// Per hole (every boundary loop but the longest) of the returned positions: how it
     /// develops in the plane. θ = 2π alone does not close a hole; one that does not close
-    /// stretches the pattern around it ([`crate::hole_closure`]).
+    /// stretches the pattern around it ([`crate::hole_closure`]). Under `HoleRims::Free` the
+    /// run's own numbers (`iterations`, `theta_err`, `factorizations`, …) are those of the
+    /// piece with its holes filled, the measures of the result (θ, holes, displacement,
+    /// area, folds, creases) the piece's own.
     pub holes: Vec<HoleClosure>,
     /// The largest [`HoleClosure::error_rad`] over the holes (rad; 0 without holes).
     pub final_hole_err: f64,

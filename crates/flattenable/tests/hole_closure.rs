@@ -306,3 +306,43 @@ fn a_ring_around_a_pyramids_apex_is_called_a_band_to_cut_open() {
         p.messages
     );
 }
+
+#[test]
+fn free_rims_report_the_pieces_own_creases_once_in_its_own_numbering() {
+    use flatcut_flattenable::{HoleRims, ProcessOptions, process};
+    // A strong saddle with two holes: both runs crease (the fixed one along 52 edges, the
+    // free one along ~500 of the 1 024 faces' edges: pleated, though θ = 2π and every hole
+    // closed).
+    let mut mesh = flatcut_mesh::shapes::patch_with_holes(200.0, 25);
+    for p in &mut mesh.positions {
+        p[2] = 0.006 * (p[0] * p[0] - p[1] * p[1]);
+    }
+    let opts = ProcessOptions {
+        hole_rims: HoleRims::Free,
+        ..Default::default()
+    };
+    let r = process(&mesh, &opts).unwrap();
+    let p = &r.report.pieces[0];
+    assert!(p.converged && p.holes.iter().all(|h| h.closes(1e-9)));
+    assert!(p.creased_edges > 0);
+    // One note, the piece's own (the filled copy's, which counts the fill's edges and names
+    // its vertices, is replaced), naming an input vertex at the position it prints.
+    let notes: Vec<&String> = p
+        .messages
+        .iter()
+        .filter(|m| m.starts_with("the processed surface creases"))
+        .collect();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(notes[0].starts_with(&format!(
+        "the processed surface creases: {} edges",
+        p.creased_edges
+    )));
+    let at = p.sharpest_crease_position_mm.unwrap();
+    let named: usize = notes[0]
+        .split("at input vertex ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap();
+    assert_eq!(mesh.positions[named], at);
+}
