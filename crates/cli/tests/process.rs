@@ -374,3 +374,39 @@ fn an_unwritable_output_names_its_reason_once() {
     assert!(err.contains("cannot write"), "{err}");
     assert_eq!(err.matches("(os error 2)").count(), 1, "{err}");
 }
+
+#[test]
+fn hole_rims_flag_leaves_holes_open_or_closes_them_and_the_report_says_which() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sheet.obj");
+    // Two holes in a 200 mm sheet on a sphere of radius 400 mm.
+    let mut sheet = flatcut_mesh::shapes::patch_with_holes(200.0, 25);
+    for p in &mut sheet.positions {
+        p[2] = (400.0f64 * 400.0 - p[0] * p[0] - p[1] * p[1]).sqrt();
+    }
+    flatcut_io::write_mesh(&input, &sheet, &Default::default()).unwrap();
+    let holes = |extra: &[&str], name: &str| {
+        let (_, rep) = process_into(dir.path(), &input, name, extra);
+        assert_eq!(rep["converged"], true, "{name}: {rep}");
+        let piece = &rep["pieces"][0];
+        assert_eq!(piece["holes"].as_array().unwrap().len(), 2, "{piece}");
+        piece["final_hole_err"].as_f64().unwrap()
+    };
+    let fixed = holes(&[], "fixed");
+    assert!(fixed > 1e-2, "{fixed}");
+    let free = holes(&["--hole-rims", "free"], "free");
+    assert!(free < 25e-9, "{free}");
+
+    let bad = flatcut()
+        .args(["process", input.to_str().unwrap()])
+        .arg(dir.path().join("bad.obj"))
+        .args(["--hole-rims", "loose"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        stderr.contains("unknown hole rims 'loose': use fixed or free"),
+        "{stderr}"
+    );
+}
