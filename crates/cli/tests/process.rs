@@ -396,6 +396,17 @@ fn hole_rims_flag_leaves_holes_open_or_closes_them_and_the_report_says_which() {
     assert!(fixed > 1e-2, "{fixed}");
     let free = holes(&["--hole-rims", "free"], "free");
     assert!(free < 25e-9, "{free}");
+    // The text report has a line for them.
+    let text = flatcut()
+        .args(["process", input.to_str().unwrap()])
+        .arg(dir.path().join("text.obj"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        stdout.contains("holes: 2; the least closed turns +6.3"),
+        "{stdout}"
+    );
 
     let bad = flatcut()
         .args(["process", input.to_str().unwrap()])

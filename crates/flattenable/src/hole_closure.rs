@@ -186,12 +186,7 @@ impl Holes {
     ) -> Vec<f64> {
         let mut out = Vec::with_capacity(self.rows());
         for h in &self.holes {
-            let dev = h.develop(positions, faces, topo);
-            out.extend([
-                dev.turning_residual_rad,
-                dev.end[0] / dev.length_mm,
-                dev.end[1] / dev.length_mm,
-            ]);
+            out.extend(h.develop(positions, faces, topo).constraints());
         }
         out
     }
@@ -212,11 +207,7 @@ impl Holes {
         let mut rows = Vec::with_capacity(self.rows());
         for h in &self.holes {
             let dev = h.develop(positions, faces, topo);
-            values.extend([
-                dev.turning_residual_rad,
-                dev.end[0] / dev.length_mm,
-                dev.end[1] / dev.length_mm,
-            ]);
+            values.extend(dev.constraints());
             let mut turning = vec![[0.0; 3]; layout.n()];
             let mut gap_x = vec![[0.0; 3]; layout.n()];
             let mut gap_y = vec![[0.0; 3]; layout.n()];
@@ -244,6 +235,17 @@ impl Holes {
             rows.extend([turning, gap_x, gap_y]);
         }
         (values, rows)
+    }
+}
+
+impl Development {
+    /// The hole's three constraint values: turning residual, Re P / L, Im P / L (rad).
+    fn constraints(&self) -> [f64; ROWS_PER_HOLE] {
+        [
+            self.turning_residual_rad,
+            self.end[0] / self.length_mm,
+            self.end[1] / self.length_mm,
+        ]
     }
 }
 
