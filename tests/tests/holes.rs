@@ -9,11 +9,7 @@ use flatcut_mesh::{Topology, TriMesh};
 
 /// Two holes in a 200 mm sheet on a sphere of radius 400 mm.
 fn sheet() -> TriMesh {
-    let mut mesh = flatcut_mesh::shapes::patch_with_holes(200.0, 25);
-    for p in &mut mesh.positions {
-        p[2] = (400.0f64 * 400.0 - p[0] * p[0] - p[1] * p[1]).sqrt();
-    }
-    mesh
+    flatcut_mesh::shapes::patch_with_holes_on_sphere(200.0, 25, 400.0)
 }
 
 /// The largest edge strain |l₂D / l₃D − 1| of `mesh` flattened by LSCM + the isometric

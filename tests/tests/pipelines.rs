@@ -935,10 +935,7 @@ fn a_piece_grain_turns_the_pattern_so_that_it_runs_up_the_sheet() {
 /// The sheet with two holes on a sphere of radius 400 mm (tests/tests/holes.rs) as an OBJ in
 /// `dir`, and a pipeline on it with `process` as its `[process]` table.
 fn holed_sheet_toml(dir: &Path, process: &str) -> String {
-    let mut mesh = flatcut_mesh::shapes::patch_with_holes(200.0, 25);
-    for p in &mut mesh.positions {
-        p[2] = (400.0f64 * 400.0 - p[0] * p[0] - p[1] * p[1]).sqrt();
-    }
+    let mesh = flatcut_mesh::shapes::patch_with_holes_on_sphere(200.0, 25, 400.0);
     let obj = dir.join("holed-sheet.obj");
     flatcut_io::write_mesh(&obj, &mesh, &Default::default()).unwrap();
     format!(

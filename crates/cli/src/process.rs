@@ -233,15 +233,12 @@ fn text_report(r: &ProcessReport) -> String {
         r.seconds
     );
     // Holes: θ = 2π alone does not close them (docs/algorithms/flattenable.md, "Holes").
-    let holes: Vec<_> = r.pieces.iter().flat_map(|p| &p.holes).collect();
-    if let Some(worst) = holes
-        .iter()
-        .max_by(|a, b| a.error_rad().total_cmp(&b.error_rad()))
-    {
+    let holes = r.pieces.iter().flat_map(|p| &p.holes);
+    if let Some(worst) = flatcut_flattenable::hole_closure::least_closed(holes.clone()) {
         outln!(
             o,
             "holes: {}; the least closed turns {:+.3e} rad from once around and leaves a {:.3e} mm gap in the plane",
-            holes.len(),
+            holes.count(),
             worst.turning_residual_rad,
             worst.gap_mm
         );

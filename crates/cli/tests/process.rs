@@ -380,10 +380,7 @@ fn hole_rims_flag_leaves_holes_open_or_closes_them_and_the_report_says_which() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("sheet.obj");
     // Two holes in a 200 mm sheet on a sphere of radius 400 mm.
-    let mut sheet = flatcut_mesh::shapes::patch_with_holes(200.0, 25);
-    for p in &mut sheet.positions {
-        p[2] = (400.0f64 * 400.0 - p[0] * p[0] - p[1] * p[1]).sqrt();
-    }
+    let sheet = flatcut_mesh::shapes::patch_with_holes_on_sphere(200.0, 25, 400.0);
     flatcut_io::write_mesh(&input, &sheet, &Default::default()).unwrap();
     let holes = |extra: &[&str], name: &str| {
         let (_, rep) = process_into(dir.path(), &input, name, extra);

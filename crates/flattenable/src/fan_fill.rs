@@ -75,10 +75,7 @@ mod tests {
     #[test]
     fn the_fill_centre_lies_on_the_sphere_its_rim_was_cut_from() {
         let radius = 400.0;
-        let mut sheet = flatcut_mesh::shapes::patch_with_holes(200.0, 25);
-        for p in &mut sheet.positions {
-            p[2] = (radius * radius - p[0] * p[0] - p[1] * p[1]).sqrt();
-        }
+        let sheet = flatcut_mesh::shapes::patch_with_holes_on_sphere(200.0, 25, radius);
         let topo = Topology::build(&sheet).unwrap();
         let holes = Holes::of(&topo, &sheet.positions);
         let filled = fan_filled(&sheet, &holes);

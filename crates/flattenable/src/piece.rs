@@ -254,7 +254,7 @@ impl Piece {
             0.0
         };
         report.folded_faces = self.folded_faces(positions);
-        report.holes = self.holes.closures(positions, &self.faces, &self.topo);
+        report.holes = self.holes.closures(positions, &self.faces);
         report.final_hole_err = report
             .holes
             .iter()

@@ -3,13 +3,13 @@
 
 use std::time::Instant;
 
-use flatcut_mesh::geometry::{face_areas, is_degenerate_face};
+use flatcut_mesh::geometry::{face_areas, is_degenerate_face, loop_length};
 use flatcut_mesh::{FaceId, Topology, TriMesh, VertexId};
 use rayon::prelude::*;
 
 use crate::coarse_to_fine::Chain;
 use crate::fan_fill::fan_filled;
-use crate::hole_closure::{HoleClosure, Holes};
+use crate::hole_closure::{HoleClosure, Holes, least_closed};
 use crate::piece::{CREASE_NOTE, Piece, rough_median};
 use crate::report::{PieceReport, ProcessReport};
 use crate::{
@@ -368,16 +368,11 @@ fn run_piece_with_rims(
         .map(|v| flatcut_mesh::vec3::dist(positions[v.idx()], local.positions[v.idx()]))
         .fold(0.0, f64::max);
     // A rim's length is a seam's length when another piece is sewn into the hole.
-    let length = |p: &[[f64; 3]], rim: &[VertexId]| -> f64 {
-        (0..rim.len())
-            .map(|j| flatcut_mesh::vec3::dist(p[rim[j].idx()], p[rim[(j + 1) % rim.len()].idx()]))
-            .sum()
-    };
     let rim_length_change_percent = holes
         .rims()
         .map(|rim| {
-            let before = length(&local.positions, rim);
-            100.0 * (length(&positions, rim) - before) / before
+            let before = loop_length(&local.positions, rim);
+            100.0 * (loop_length(&positions, rim) - before) / before
         })
         .fold(0.0f64, |m, c| if c.abs() > m.abs() { c } else { m });
     report.messages.push(format!(
@@ -585,10 +580,7 @@ fn run_piece(
 /// `tolerance_rad` and the worst one's turning residual and gap.
 fn holes_open(holes: &[HoleClosure], tolerance_rad: f64, rims: HoleRims) -> String {
     let open: Vec<&HoleClosure> = holes.iter().filter(|h| !h.closes(tolerance_rad)).collect();
-    let worst = open
-        .iter()
-        .max_by(|a, b| a.error_rad().total_cmp(&b.error_rad()));
-    let Some(w) = worst else {
+    let Some(w) = least_closed(open.iter().copied()) else {
         return "every hole closes in the plane".into();
     };
     let what = format!(

@@ -10,6 +10,19 @@ use std::f64::consts::{PI, TAU};
 use crate::vec3::{angle, cross, dot, norm, sub};
 use crate::{Topology, TriMesh, VertexId};
 
+/// The length of the closed polygon through `vertices`, the last joined back to the first:
+/// a boundary loop's length.
+pub fn loop_length(positions: &[[f64; 3]], vertices: &[VertexId]) -> f64 {
+    (0..vertices.len())
+        .map(|i| {
+            crate::vec3::dist(
+                positions[vertices[i].idx()],
+                positions[vertices[(i + 1) % vertices.len()].idx()],
+            )
+        })
+        .sum()
+}
+
 /// The three corner angles of a triangle in radians, at `p0`, `p1`, `p2`, in the atan2 form
 /// (stable near 0 and π).
 #[inline]

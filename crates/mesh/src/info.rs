@@ -3,7 +3,7 @@
 use serde::Serialize;
 use std::collections::HashMap;
 
-use crate::geometry::angle_defects;
+use crate::geometry::{angle_defects, loop_length};
 use crate::vec3::dist;
 use crate::{Topology, TriMesh, VertexId};
 
@@ -56,11 +56,7 @@ pub fn mesh_info(mesh: &TriMesh, topo: &Topology) -> MeshInfo {
     let loops = topo.boundary_loops();
     let boundary_loop_lengths_mm = loops
         .iter()
-        .map(|lp| {
-            (0..lp.len())
-                .map(|i| dist(mesh.position(lp[i]), mesh.position(lp[(i + 1) % lp.len()])))
-                .sum()
-        })
+        .map(|lp| loop_length(&mesh.positions, lp))
         .collect();
     let defects = angle_defects(&mesh.positions, &mesh.faces, topo);
     let (mut max_d, mut sum_d, mut n_int) = (0.0f64, 0.0, 0usize);

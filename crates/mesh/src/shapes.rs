@@ -357,6 +357,20 @@ pub fn patch_with_holes(size_mm: f64, n: usize) -> TriMesh {
     compact(grid.positions, faces)
 }
 
+/// [`patch_with_holes`] lifted onto the sphere of radius `radius_mm` about the origin (the
+/// upper half, z = √(r² − x² − y²), clamped at z = 0 for a radius below the sheet's half
+/// diagonal): a doubly curved sheet whose holes each enclose Gaussian curvature, so that θ = 2π
+/// at its interior vertices does not close them in the plane.
+pub fn patch_with_holes_on_sphere(size_mm: f64, n: usize, radius_mm: f64) -> TriMesh {
+    let mut sheet = patch_with_holes(size_mm, n);
+    for p in &mut sheet.positions {
+        p[2] = (radius_mm * radius_mm - p[0] * p[0] - p[1] * p[1])
+            .max(0.0)
+            .sqrt();
+    }
+    sheet
+}
+
 /// Two triangles sharing only vertex 0: the smallest non-manifold ("bowtie") vertex.
 pub fn non_manifold_bowtie() -> TriMesh {
     mesh(

@@ -407,3 +407,18 @@ fn area_weighted_vertex_normals_on_a_plane_and_a_sphere() {
     let total: f64 = normals.iter().map(|n| norm(*n)).sum();
     assert!(norm(sum) < 1e-12 * total, "Σ = {sum:?}");
 }
+
+#[test]
+fn loop_length_of_a_square_sheets_boundary_is_its_perimeter() {
+    let sheet = grid_patch(9, 9, 120.0, |_, _| 0.0);
+    let topo = Topology::build(&sheet).unwrap();
+    let outline = &topo.boundary_loops()[0];
+    assert_eq!(outline.len(), 32);
+    assert!((loop_length(&sheet.positions, outline) - 480.0).abs() < 1e-12);
+    // Three vertices of a 3-4-5 triangle: the closing edge counts.
+    let p = [[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [3.0, 4.0, 0.0]];
+    assert_eq!(
+        loop_length(&p, &[VertexId(0), VertexId(1), VertexId(2)]),
+        12.0
+    );
+}

@@ -316,3 +316,15 @@ fn dress_form_follows_other_measurements() {
         (4, -2)
     );
 }
+
+#[test]
+fn patch_with_holes_on_sphere_is_the_flat_sheet_lifted_onto_its_sphere() {
+    let flat = patch_with_holes(200.0, 25);
+    let sheet = patch_with_holes_on_sphere(200.0, 25, 400.0);
+    assert_eq!(sheet.faces, flat.faces);
+    for (p, q) in sheet.positions.iter().zip(&flat.positions) {
+        assert_eq!([p[0], p[1]], [q[0], q[1]]);
+        assert!((dot(*p, *p).sqrt() - 400.0).abs() < 1e-12, "{p:?}");
+    }
+    assert_eq!(Topology::build(&sheet).unwrap().boundary_loops().len(), 3);
+}

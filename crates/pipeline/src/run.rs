@@ -10,6 +10,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
+use flatcut_flattenable::hole_closure::least_closed;
 use flatcut_flattenable::{FlattenableError, HoleRims, Processed};
 use flatcut_io::{Format, Units, WriteOptions};
 use flatcut_lscm::{Pins, distortion, flatten_with_topology};
@@ -721,10 +722,7 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
         let tolerance = p.spec.process.tolerance_rad;
         if let Some(r) = r.filter(|r| r.converged) {
             let open: Vec<_> = r.holes.iter().filter(|h| !h.closes(tolerance)).collect();
-            if let Some(worst) = open
-                .iter()
-                .max_by(|a, b| a.error_rad().total_cmp(&b.error_rad()))
-            {
+            if let Some(worst) = least_closed(open.iter().copied()) {
                 let remedy = match p.spec.process.hole_rims {
                     HoleRims::Fixed => {
                         "`hole_rims = \"free\"` in [process] lets their rims move so that they close, or a seam from each hole to the outline makes the piece a disk"
