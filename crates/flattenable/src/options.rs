@@ -173,8 +173,9 @@ pub enum HoleRims {
     /// ([`crate::PieceReport::holes`]) and a message says which do not close.
     #[default]
     Fixed,
-    /// Each hole filled for the processing (a fan whose centre continues the surface,
-    /// removed afterwards): the rims move like interior vertices, every hole closes, and the
+    /// Each hole filled for the processing (by ears of its rim's polygon, or where that
+    /// filled piece does not converge by a fan whose centre continues the surface; removed
+    /// afterwards): the rims move like interior vertices, every hole closes, and the
     /// piece flattens without stretch. The outline stays fixed; the report says how far the
     /// rims moved and how much their lengths changed: a rim that is a seam (a patch sewn
     /// into the hole) then no longer matches its mate, so this is for cut-outs; a seam from

@@ -8,8 +8,8 @@ use flatcut_mesh::{FaceId, Topology, TriMesh, VertexId};
 use rayon::prelude::*;
 
 use crate::coarse_to_fine::Chain;
-use crate::fan_fill::fan_filled;
 use crate::hole_closure::{HoleClosure, Holes, least_closed};
+use crate::hole_fill::{HoleFill, filled};
 use crate::piece::{CREASE_NOTE, Piece, rough_median};
 use crate::report::{PieceReport, ProcessReport};
 use crate::{
@@ -291,7 +291,7 @@ const LARGE_TOTAL_DEFECT_RAD: f64 = std::f64::consts::PI;
 type PieceOutcome = (Vec<[f64; 3]>, Vec<u32>, PieceReport);
 
 /// [`run_piece`], under `HoleRims::Free` on the piece with its holes filled
-/// ([`fan_filled`]), the fills then dropped and the result measured on the piece itself (its
+/// (`hole_fill::filled`: ears, then a fan), the fills then dropped and the result measured on the piece itself (its
 /// θ, its holes, its displacement and folds).
 fn run_piece_with_rims(
     mesh: &TriMesh,
@@ -310,34 +310,57 @@ fn run_piece_with_rims(
     if holes.is_empty() {
         return run_piece(mesh, index, faces, weights, opts);
     }
-    let filled = fan_filled(&local, &holes);
     let w_local: Vec<f64> = map.iter().map(|&g| weights[g as usize]).collect();
-    let mut w_filled = w_local.clone();
-    w_filled.resize(filled.vertex_count(), 1.0);
-    let all: Vec<u32> = (0..filled.face_count() as u32).collect();
-    let (pos, filled_map, mut report) = match run_piece(&filled, index, &all, &w_filled, opts) {
-        Ok(run) if run.2.converged => run,
-        other => {
-            // Filled, the piece did not become flat (or could not be processed): the run
-            // with the rims fixed, which holds the boundary and meets θ = 2π more often
-            // (docs/algorithms/flattenable.md, "Holes"), is the better result to return.
-            let filled_outcome = match &other {
-                Ok((_, _, run)) => format!("stopped at θ_err {:.1e} rad", run.final_theta_err),
-                Err(e) => format!("could not be processed ({e})"),
-            };
-            let (positions, vertex_map, mut report) = run_piece(mesh, index, faces, weights, opts)?;
-            report.messages.push(format!(
-                "hole rims free: the piece with its {} holes filled {filled_outcome}; the run with the rims fixed is returned{}",
-                holes.len(),
-                if report.converged {
-                    " (θ = 2π, its holes as they stay)"
-                } else {
-                    ""
-                }
-            ));
-            report.seconds = start.elapsed().as_secs_f64();
-            return Ok((positions, vertex_map, report));
+    // Ears first (no vertex added; fewest iterations over the body patches measured), then
+    // the fan where the ears' filled piece does not converge: each closes some holes the
+    // other does not (docs/algorithms/flattenable.md, "Holes").
+    let mut tried: Vec<(HoleFill, TriMesh, String)> = Vec::new();
+    let mut done = None;
+    for fill in [HoleFill::Ears, HoleFill::Fan] {
+        let mesh_filled = filled(&local, &holes, fill);
+        if tried.iter().any(|(_, m, _)| *m == mesh_filled) {
+            continue;
         }
+        let mut w_filled = w_local.clone();
+        w_filled.resize(mesh_filled.vertex_count(), 1.0);
+        let all: Vec<u32> = (0..mesh_filled.face_count() as u32).collect();
+        match run_piece(&mesh_filled, index, &all, &w_filled, opts) {
+            Ok(run) if run.2.converged => {
+                done = Some((fill, run));
+                break;
+            }
+            other => {
+                let outcome = match &other {
+                    Ok((_, _, run)) => {
+                        format!("stopped at θ_err {:.1e} rad", run.final_theta_err)
+                    }
+                    Err(e) => format!("could not be processed ({e})"),
+                };
+                tried.push((fill, mesh_filled, outcome));
+            }
+        }
+    }
+    let fill_outcomes = tried
+        .iter()
+        .map(|(fill, _, outcome)| format!("by {}: {outcome}", fill_name(*fill)))
+        .collect::<Vec<_>>()
+        .join("; ");
+    let Some((fill, (pos, filled_map, mut report))) = done else {
+        // Filled, the piece did not become flat (or could not be processed): the run with
+        // the rims fixed, which holds the boundary and meets θ = 2π more often
+        // (docs/algorithms/flattenable.md, "Holes"), is the better result to return.
+        let (positions, vertex_map, mut report) = run_piece(mesh, index, faces, weights, opts)?;
+        report.messages.push(format!(
+            "hole rims free: the piece with its {} holes filled did not converge ({fill_outcomes}); the run with the rims fixed is returned{}",
+            holes.len(),
+            if report.converged {
+                " (θ = 2π, its holes as they stay)"
+            } else {
+                ""
+            }
+        ));
+        report.seconds = start.elapsed().as_secs_f64();
+        return Ok((positions, vertex_map, report));
     };
     let mut positions = local.positions.clone();
     for (p, &v) in pos.iter().zip(&filled_map) {
@@ -376,8 +399,14 @@ fn run_piece_with_rims(
         })
         .fold(0.0f64, |m, c| if c.abs() > m.abs() { c } else { m });
     report.messages.push(format!(
-        "hole rims free: {} holes filled by fans for the processing and the fills dropped; the rims moved by up to {rim_moved_mm:.4} mm and their lengths changed by up to {rim_length_change_percent:+.3} % (the outline is fixed; a piece sewn into a hole no longer matches its rim by that much)",
-        holes.len()
+        "hole rims free: {} holes filled by {} for the processing and the fills dropped{}; the rims moved by up to {rim_moved_mm:.4} mm and their lengths changed by up to {rim_length_change_percent:+.3} % (the outline is fixed; a piece sewn into a hole no longer matches its rim by that much)",
+        holes.len(),
+        fill_name(fill),
+        if tried.is_empty() {
+            String::new()
+        } else {
+            format!(" (filled {fill_outcomes})")
+        }
     ));
     if report.converged && report.holes.iter().any(|h| !h.closes(opts.tolerance_rad)) {
         report.messages.push(holes_open(
@@ -388,6 +417,14 @@ fn run_piece_with_rims(
     }
     report.seconds = start.elapsed().as_secs_f64();
     Ok((positions, piece.vertex_map, report))
+}
+
+/// A fill as the messages name it.
+fn fill_name(fill: HoleFill) -> &'static str {
+    match fill {
+        HoleFill::Ears => "ears",
+        HoleFill::Fan => "fans",
+    }
 }
 
 fn run_piece(
