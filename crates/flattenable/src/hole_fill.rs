@@ -149,8 +149,11 @@ impl RimPlane {
     fn deepest(&self) -> Option<([f64; 2], f64)> {
         // Grid cells per side, and halvings of the search's step: a 24 × 24 grid is within
         // 3 % of the rim's extent of the best point, and 40 halvings take that below 1e-12.
+        // The rounds (each a halving or a move) are bounded only against a ridge walked at a
+        // tiny step.
         const GRID: usize = 24;
         const HALVINGS: usize = 40;
+        const MAX_ROUNDS: usize = 1000;
         let (lo, hi) = self.points.iter().fold(
             ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
             |(lo, hi), p| {
@@ -173,7 +176,10 @@ impl RimPlane {
         }
         let mut step = cell[0].max(cell[1]);
         let mut halvings = 0;
-        while halvings < HALVINGS {
+        for _ in 0..MAX_ROUNDS {
+            if halvings == HALVINGS {
+                break;
+            }
             let mut moved = false;
             for (dx, dy) in [
                 (1.0, 0.0),
@@ -258,19 +264,24 @@ fn ears(plane: &RimPlane, rim: &[VertexId]) -> Option<Vec<[u32; 3]>> {
     let mut tris = Vec::with_capacity(rim.len().saturating_sub(2));
     while polygon.len() > 3 {
         let m = polygon.len();
+        let corner = |i: usize| (polygon[(i + m - 1) % m], polygon[i], polygon[(i + 1) % m]);
+        // Only a reflex vertex can lie inside a convex corner's triangle.
+        let reflex: Vec<usize> = (0..m)
+            .filter(|&i| {
+                let (a, b, c) = corner(i);
+                turn(a, b, c) <= 0.0
+            })
+            .map(|i| polygon[i])
+            .collect();
         let mut best: Option<(usize, f64)> = None;
         for i in 0..m {
-            let (a, b, c) = (polygon[(i + m - 1) % m], polygon[i], polygon[(i + 1) % m]);
+            let (a, b, c) = corner(i);
             let twice_area = turn(a, b, c);
             if twice_area <= 0.0 {
                 continue;
             }
-            // Only a reflex vertex can lie inside a convex corner's triangle.
-            let blocked = polygon.iter().enumerate().any(|(j, &p)| {
-                let reflex = turn(polygon[(j + m - 1) % m], p, polygon[(j + 1) % m]) <= 0.0;
-                reflex
-                    && p != a
-                    && p != b
+            let blocked = reflex.iter().any(|&p| {
+                p != a
                     && p != c
                     && turn(a, b, p) >= 0.0
                     && turn(b, c, p) >= 0.0
