@@ -49,26 +49,23 @@ pub(crate) fn filled(piece: &TriMesh, holes: &Holes, fill: HoleFill) -> TriMesh 
                 .as_ref()
                 .and_then(|p| fan_centre(p, &piece.positions, &normals, rim))
         };
-        let (tris, centre) = match fill {
-            HoleFill::Ears => match ears() {
-                Some(tris) => (tris, None),
-                None => (Vec::new(), Some(fan())),
-            },
-            HoleFill::Fan => match fan() {
-                Some(c) => (Vec::new(), Some(Some(c))),
-                None => match ears() {
-                    Some(tris) => (tris, None),
-                    None => (Vec::new(), Some(None)),
-                },
-            },
+        let one = match fill {
+            HoleFill::Ears => ears()
+                .map(RimFill::Ears)
+                .or_else(|| fan().map(RimFill::Fan)),
+            HoleFill::Fan => fan()
+                .map(RimFill::Fan)
+                .or_else(|| ears().map(RimFill::Ears)),
         };
-        faces.extend(tris);
-        if let Some(centre) = centre {
-            let c = positions.len() as u32;
-            positions.push(centre.unwrap_or_else(|| centroid(&piece.positions, rim)));
-            for j in 0..rim.len() {
-                let (a, b) = (rim[j].0, rim[(j + 1) % rim.len()].0);
-                faces.push([b, a, c]);
+        match one.unwrap_or_else(|| RimFill::Fan(centroid(&piece.positions, rim))) {
+            RimFill::Ears(tris) => faces.extend(tris),
+            RimFill::Fan(centre) => {
+                let c = positions.len() as u32;
+                positions.push(centre);
+                for j in 0..rim.len() {
+                    let (a, b) = (rim[j].0, rim[(j + 1) % rim.len()].0);
+                    faces.push([b, a, c]);
+                }
             }
         }
     }
@@ -78,6 +75,12 @@ pub(crate) fn filled(piece: &TriMesh, holes: &Holes, fill: HoleFill) -> TriMesh 
         attributes: Default::default(),
         face_labels: None,
     }
+}
+
+/// One rim's fill: its ears, or the centre of its fan.
+enum RimFill {
+    Ears(Vec<[u32; 3]>),
+    Fan([f64; 3]),
 }
 
 fn centroid(positions: &[[f64; 3]], rim: &[VertexId]) -> [f64; 3] {
