@@ -633,7 +633,7 @@ fn holes_open(holes: &[HoleClosure], tolerance_rad: f64, rims: HoleRims) -> Stri
     // Half a turn or more short: the piece wraps around the hole (a sleeve, a leg, a skirt).
     if w.turning_residual_rad.abs() > std::f64::consts::PI {
         format!(
-            "{what}: the piece wraps around that hole like a band or tube, and with the rim held it cannot be laid flat; a seam from the hole to the outline can{}",
+            "{what}: the piece wraps around that hole like a band or tube, and with the rim held it cannot be laid flat; a seam from the hole to the outline (a `[[cut]]` line of a pipeline) can{}",
             if rims == HoleRims::Fixed {
                 ", and `hole_rims = \"free\"` only by moving the rim far"
             } else {
@@ -642,11 +642,11 @@ fn holes_open(holes: &[HoleClosure], tolerance_rad: f64, rims: HoleRims) -> Stri
         )
     } else if rims == HoleRims::Fixed {
         format!(
-            "{what}, so its pattern stretches around them; with `hole_rims = \"free\"` (`--hole-rims free`) the rims move so that every hole closes, or a seam from each hole to the outline makes the piece a disk"
+            "{what}, so its pattern stretches around them; with `hole_rims = \"free\"` (`--hole-rims free`) the rims move so that every hole closes, or a seam from each hole to the outline (a `[[cut]]` line of a pipeline from its rim to the outline; its two sides become a seam of the piece with itself) makes the piece a disk"
         )
     } else {
         format!(
-            "{what}, so its pattern stretches around them; a seam from each hole to the outline makes the piece a disk"
+            "{what}, so its pattern stretches around them; a seam from each hole to the outline (a `[[cut]]` line of a pipeline from its rim to the outline; its two sides become a seam of the piece with itself) makes the piece a disk"
         )
     }
 }

@@ -725,10 +725,10 @@ pub fn compute(p: &Pipeline, progress: &Progress) -> Result<Computed, PipelineEr
             if let Some(worst) = least_closed(open.iter().copied()) {
                 let remedy = match p.spec.process.hole_rims {
                     HoleRims::Fixed => {
-                        "`hole_rims = \"free\"` in [process] lets their rims move so that they close, or a seam from each hole to the outline makes the piece a disk"
+                        "`hole_rims = \"free\"` in [process] lets their rims move so that they close, or a `[[cut]]` line from each hole's rim to the outline makes the piece a disk (its two sides a seam of the piece with itself)"
                     }
                     HoleRims::Free => {
-                        "with its holes filled it did not converge, so its rims stayed fixed; a seam from each hole to the outline makes the piece a disk"
+                        "with its holes filled it did not converge, so its rims stayed fixed; a `[[cut]]` line from each hole's rim to the outline makes the piece a disk (its two sides a seam of the piece with itself)"
                     }
                 };
                 warnings.push(format!(
