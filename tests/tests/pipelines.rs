@@ -960,6 +960,77 @@ formats = ["svg"]
     )
 }
 
+/// The remedy the open-hole messages name for a hole whose rim must keep its length (a seam):
+/// a `[[cut]]` line from each hole's rim to the outline. Trim opens it into a seam of the piece
+/// with itself, the piece becomes a disk, and with every boundary fixed (rims included) it
+/// flattens without stretch, both sides of each slit as long in the pattern as in 3D.
+#[test]
+fn a_cut_from_each_hole_to_the_outline_makes_a_holed_piece_flatten_with_its_rims_held() {
+    let tmp = tempfile::tempdir().unwrap();
+    // The holes of `patch_with_holes(200, 25)` are centred at x = ∓50 mm with radius 25 mm:
+    // the grid vertices (∓75, 0) are on their rims (the cell at x = ∓70.8 is removed, the one
+    // at ∓79.2 kept), and (∓100, 0) on the outline.
+    let z = |x: f64| (400.0f64 * 400.0 - x * x).sqrt();
+    let cuts = format!(
+        r#"
+[[cut]]
+name = "slit-left"
+points = [[-75.0, 0.0, {}], [-100.0, 0.0, {}]]
+
+[[cut]]
+name = "slit-right"
+points = [[75.0, 0.0, {}], [100.0, 0.0, {}]]
+"#,
+        z(75.0),
+        z(100.0),
+        z(75.0),
+        z(100.0)
+    );
+    let text = holed_sheet_toml(tmp.path(), "").replace("[process]", &format!("{cuts}\n[process]"));
+    let (out, _) = run_text(&text, tmp.path(), "slits");
+    let r = &out.report;
+    let piece = &r.pieces[0];
+    assert_eq!(
+        (piece.boundary_loops, piece.euler_characteristic),
+        (1, 1),
+        "{piece:?}"
+    );
+    assert!(
+        piece.process.converged && piece.process.theta_err_after <= 1e-9,
+        "{piece:?}"
+    );
+    assert!(
+        !r.warnings.iter().any(|w| w.contains("do not close")),
+        "{:?}",
+        r.warnings
+    );
+    // Without the slits the same sheet stretches by 1.2e-2 (the test below).
+    assert!(
+        piece.flatten.max_edge_strain < 1e-6,
+        "{}",
+        piece.flatten.max_edge_strain
+    );
+    for slit in ["slit-left", "slit-right"] {
+        let row = r.seam_table.iter().find(|s| s.line == slit).unwrap();
+        assert_eq!(
+            (row.a_piece.as_str(), row.b_piece.as_str()),
+            ("sheet", "sheet")
+        );
+        // The great circle's arc from x = 75 to 100 mm, on chords of it (three grid edges):
+        // shorter by O(h²/R²).
+        let arc = 400.0 * ((100.0f64 / 400.0).asin() - (75.0f64 / 400.0).asin());
+        assert!(
+            row.length_3d_mm <= arc && row.length_3d_mm > (1.0 - 1e-4) * arc,
+            "{row:?} against {arc}"
+        );
+        assert!(row.difference_mm.abs() <= 1e-6, "{row:?}");
+        assert!(
+            (row.a_2d_mm - row.length_3d_mm).abs() <= 1e-6 * row.length_3d_mm,
+            "{row:?}"
+        );
+    }
+}
+
 #[test]
 fn a_piece_whose_holes_stay_open_is_warned_about_and_free_rims_close_them() {
     let tmp = tempfile::tempdir().unwrap();
