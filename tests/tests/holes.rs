@@ -20,6 +20,15 @@ fn max_edge_strain(mesh: &TriMesh) -> f64 {
     flatcut_lscm::distortion(mesh, &topo, &out.flattening.uv).max_edge_strain
 }
 
+/// `mesh` processed with free hole rims, otherwise the defaults.
+fn process_free(mesh: &TriMesh) -> flatcut_flattenable::Processed {
+    let opts = ProcessOptions {
+        hole_rims: HoleRims::Free,
+        ..Default::default()
+    };
+    process(mesh, &opts).unwrap()
+}
+
 #[test]
 fn holes_left_open_stretch_the_pattern_and_closed_ones_do_not() {
     let mesh = sheet();
@@ -40,14 +49,7 @@ fn holes_left_open_stretch_the_pattern_and_closed_ones_do_not() {
         "strain {strain} for an open hole {open}"
     );
 
-    let free = process(
-        &mesh,
-        &ProcessOptions {
-            hole_rims: HoleRims::Free,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let free = process_free(&mesh);
     let strain = max_edge_strain(&free.mesh);
     assert!(strain < 1e-8, "{strain}");
 }
@@ -57,30 +59,14 @@ fn holes_left_open_stretch_the_pattern_and_closed_ones_do_not() {
 /// the hole, so that a fan from it turns faces over.
 fn sheet_with_l_hole() -> TriMesh {
     let radius: f64 = 400.0;
-    let grid = flatcut_mesh::shapes::grid_patch(21, 21, 200.0, |x, y| {
-        (radius * radius - x * x - y * y).sqrt()
-    });
     let arm = |s: f64| (-40.0..=-20.0).contains(&s);
     let span = |s: f64| (-40.0..=40.0).contains(&s);
-    let kept: Vec<u32> = (0..grid.face_count() as u32)
-        .step_by(2)
-        .filter(|&f| {
-            // The two triangles of a cell come one after the other.
-            let mut corners: Vec<u32> = [f, f + 1]
-                .iter()
-                .flat_map(|&g| grid.faces[g as usize])
-                .collect();
-            corners.sort_unstable();
-            corners.dedup();
-            let (x, y) = corners.iter().fold((0.0, 0.0), |(x, y), &v| {
-                let p = grid.positions[v as usize];
-                (x + p[0] / 4.0, y + p[1] / 4.0)
-            });
-            !((arm(y) && span(x)) || (arm(x) && span(y)))
-        })
-        .flat_map(|f| [f, f + 1])
-        .collect();
-    flatcut_mesh::submesh(&grid, &kept).0
+    flatcut_mesh::shapes::grid_patch_with_holes(
+        21,
+        200.0,
+        |x, y| (radius * radius - x * x - y * y).sqrt(),
+        |x, y| (arm(y) && span(x)) || (arm(x) && span(y)),
+    )
 }
 
 #[test]
@@ -91,14 +77,7 @@ fn a_notched_hole_closes_with_free_rims() {
     let hole = &fixed.report.pieces[0].holes[0];
     // With its rim fixed θ = 2π leaves curvature in the hole (measured 0.109 rad).
     assert!(hole.turning_residual_rad > 0.05, "{hole:?}");
-    let free = process(
-        &mesh,
-        &ProcessOptions {
-            hole_rims: HoleRims::Free,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let free = process_free(&mesh);
     let p = &free.report.pieces[0];
     assert!(p.converged, "{:?}", p.messages);
     assert!(p.holes.iter().all(|h| h.closes(1e-9)), "{:?}", p.holes);

@@ -324,33 +324,9 @@ mod tests {
     use flatcut_mesh::Topology;
     use flatcut_mesh::geometry::{angle_sums, face_areas};
 
-    /// A 200 mm sheet on a 21 × 21 grid (10 mm cells) with the cells whose centre `hole`
-    /// takes removed, its z from `height`.
-    fn sheet_with_hole(
-        hole: impl Fn(f64, f64) -> bool,
-        height: impl Fn(f64, f64) -> f64,
-    ) -> TriMesh {
-        let grid = flatcut_mesh::shapes::grid_patch(21, 21, 200.0, height);
-        let kept: Vec<u32> = (0..grid.face_count() as u32)
-            .step_by(2)
-            .filter(|&f| {
-                // The two triangles of a cell come one after the other; its centre is the
-                // mean of their four corners.
-                let mut corners: Vec<u32> = [f, f + 1]
-                    .iter()
-                    .flat_map(|&g| grid.faces[g as usize])
-                    .collect();
-                corners.sort_unstable();
-                corners.dedup();
-                let c = corners.iter().fold([0.0, 0.0], |s, &v| {
-                    let p = grid.positions[v as usize];
-                    [s[0] + p[0] / 4.0, s[1] + p[1] / 4.0]
-                });
-                !hole(c[0], c[1])
-            })
-            .flat_map(|f| [f, f + 1])
-            .collect();
-        flatcut_mesh::submesh(&grid, &kept).0
+    /// A 200 mm sheet on a 21 × 21 grid (10 mm cells) without the cells `hole` takes, flat.
+    fn sheet_with_hole(hole: impl Fn(f64, f64) -> bool) -> TriMesh {
+        flatcut_mesh::shapes::grid_patch_with_holes(21, 200.0, |_, _| 0.0, hole)
     }
 
     /// An L of two 20 mm arms, 80 mm long: its rim's centroid lies in the L's inner corner,
@@ -385,7 +361,7 @@ mod tests {
 
     #[test]
     fn a_notched_hole_gets_a_fan_from_its_kernel_and_ears_that_tile_it() {
-        let sheet = sheet_with_hole(l_hole, |_, _| 0.0);
+        let sheet = sheet_with_hole(l_hole);
         let topo = Topology::build(&sheet).unwrap();
         let holes = Holes::of(&topo, &sheet.positions);
         assert_eq!(holes.len(), 1);
@@ -423,7 +399,7 @@ mod tests {
 
     #[test]
     fn a_hole_without_kernel_is_filled_by_ears_even_when_a_fan_is_asked_for() {
-        let sheet = sheet_with_hole(u_hole, |_, _| 0.0);
+        let sheet = sheet_with_hole(u_hole);
         let topo = Topology::build(&sheet).unwrap();
         let holes = Holes::of(&topo, &sheet.positions);
         let rim = holes.rims().next().unwrap();

@@ -330,10 +330,32 @@ fn surface_of_revolution(
 /// the British flag theorem a disk can never contain two diagonal quad centres without one of
 /// the other two, so the holes never leave a bowtie vertex. Needs `n ≥ 9` for holes to appear.
 pub fn patch_with_holes(size_mm: f64, n: usize) -> TriMesh {
-    let n = n.max(2);
-    let grid = grid_patch(n, n, size_mm, |_, _| 0.0);
     let r = size_mm / 8.0;
     let centres = [[-size_mm / 4.0, 0.0], [size_mm / 4.0, 0.0]];
+    grid_patch_with_holes(
+        n,
+        size_mm,
+        |_, _| 0.0,
+        |x, y| {
+            centres
+                .iter()
+                .any(|h| (x - h[0]).powi(2) + (y - h[1]).powi(2) <= r * r)
+        },
+    )
+}
+
+/// [`grid_patch`]`(n, n, size_mm, height)` without the cells (grid quads) whose centre (x, y)
+/// `in_hole` takes, the vertices no face keeps dropped (the others in order): a patch with
+/// holes of any outline drawn by the caller. Two removed cells meeting only at a corner leave a
+/// bowtie vertex there, which the caller's outline must avoid.
+pub fn grid_patch_with_holes(
+    n: usize,
+    size_mm: f64,
+    height: impl Fn(f64, f64) -> f64,
+    in_hole: impl Fn(f64, f64) -> bool,
+) -> TriMesh {
+    let n = n.max(2);
+    let grid = grid_patch(n, n, size_mm, height);
     let mut faces = Vec::with_capacity(grid.faces.len());
     // grid_faces emits the two triangles of each quad consecutively.
     for pair in grid.faces.chunks(2) {
@@ -347,10 +369,7 @@ pub fn patch_with_holes(size_mm: f64, n: usize) -> TriMesh {
             let p = grid.positions[v as usize];
             [s[0] + p[0] / 4.0, s[1] + p[1] / 4.0]
         });
-        let inside = centres
-            .iter()
-            .any(|h| (c[0] - h[0]).powi(2) + (c[1] - h[1]).powi(2) <= r * r);
-        if !inside {
+        if !in_hole(c[0], c[1]) {
             faces.extend_from_slice(pair);
         }
     }

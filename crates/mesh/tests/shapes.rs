@@ -328,3 +328,23 @@ fn patch_with_holes_on_sphere_is_the_flat_sheet_lifted_onto_its_sphere() {
     }
     assert_eq!(Topology::build(&sheet).unwrap().boundary_loops().len(), 3);
 }
+
+#[test]
+fn a_grid_patch_with_an_l_shaped_hole_has_the_ls_area_missing() {
+    let arm = |s: f64| (-40.0..=-20.0).contains(&s);
+    let span = |s: f64| (-40.0..=40.0).contains(&s);
+    let sheet = grid_patch_with_holes(
+        21,
+        200.0,
+        |_, _| 0.0,
+        |x, y| (arm(y) && span(x)) || (arm(x) && span(y)),
+    );
+    let topo = Topology::build(&sheet).unwrap();
+    assert_eq!(topo.boundary_loops().len(), 2);
+    // 28 of the 400 cells (two 8 × 2 arms sharing a 2 × 2 corner), and the 13 vertices
+    // strictly inside the L (x = −30 or y = −30 within it) with them.
+    assert_eq!(sheet.face_count(), 2 * (400 - 28));
+    assert_eq!(sheet.vertex_count(), 21 * 21 - 13);
+    let area = total_area(&sheet);
+    assert!((area - (200.0 * 200.0 - 2800.0)).abs() < 1e-9, "{area}");
+}
