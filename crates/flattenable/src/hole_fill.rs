@@ -345,8 +345,9 @@ mod tests {
     }
 
     /// Checks that `filled` is `sheet` filled into a disk of consistent orientation whose
-    /// fill faces all face +z (the sheet is flat), and returns the number of vertices added.
-    fn check_flat_fill(sheet: &TriMesh, filled: &TriMesh) -> usize {
+    /// fill faces all face +z (the sheet is flat), and returns the number of vertices added
+    /// and the fill's area (mm²).
+    fn check_flat_fill(sheet: &TriMesh, filled: &TriMesh) -> (usize, f64) {
         assert_eq!(&filled.faces[..sheet.face_count()], &sheet.faces[..]);
         let topo = Topology::build(filled).unwrap();
         assert_eq!(topo.boundary_loops().len(), 1);
@@ -356,7 +357,10 @@ mod tests {
             let normal = cross(sub(b, a), sub(c, a));
             assert!(normal[2] > 0.0, "fill face {f:?} turned over: {normal:?}");
         }
-        filled.vertex_count() - sheet.vertex_count()
+        let area = face_areas(&filled.positions, &filled.faces)[sheet.face_count()..]
+            .iter()
+            .sum();
+        (filled.vertex_count() - sheet.vertex_count(), area)
     }
 
     #[test]
@@ -380,7 +384,7 @@ mod tests {
         );
 
         let fan = filled(&sheet, &holes, HoleFill::Fan);
-        assert_eq!(check_flat_fill(&sheet, &fan), 1);
+        assert_eq!(check_flat_fill(&sheet, &fan).0, 1);
         // A fan from inside the kernel of a flat polygon covers it once: 2π at its centre.
         let centre = sheet.vertex_count();
         let theta = angle_sums(&fan.positions, &fan.faces)[centre];
@@ -388,12 +392,10 @@ mod tests {
         assert_eq!(fan.positions[centre][2], 0.0);
 
         let ears = filled(&sheet, &holes, HoleFill::Ears);
-        assert_eq!(check_flat_fill(&sheet, &ears), 0);
+        let (added, area) = check_flat_fill(&sheet, &ears);
+        assert_eq!(added, 0);
         assert_eq!(ears.face_count() - sheet.face_count(), rim.len() - 2);
         // The ears tile the L: 2 × 80 × 20 − 20 × 20 mm².
-        let area: f64 = face_areas(&ears.positions, &ears.faces)[sheet.face_count()..]
-            .iter()
-            .sum();
         assert!((area - 2800.0).abs() < 1e-9, "{area}");
     }
 
@@ -412,11 +414,9 @@ mod tests {
         );
         let fan = filled(&sheet, &holes, HoleFill::Fan);
         assert_eq!(fan, filled(&sheet, &holes, HoleFill::Ears));
-        assert_eq!(check_flat_fill(&sheet, &fan), 0);
+        let (added, area) = check_flat_fill(&sheet, &fan);
+        assert_eq!(added, 0);
         // 80 × 20 + 2 × 60 × 20 mm².
-        let area: f64 = face_areas(&fan.positions, &fan.faces)[sheet.face_count()..]
-            .iter()
-            .sum();
         assert!((area - 4000.0).abs() < 1e-9, "{area}");
     }
 

@@ -291,8 +291,8 @@ const LARGE_TOTAL_DEFECT_RAD: f64 = std::f64::consts::PI;
 type PieceOutcome = (Vec<[f64; 3]>, Vec<u32>, PieceReport);
 
 /// [`run_piece`], under `HoleRims::Free` on the piece with its holes filled
-/// (`hole_fill::filled`: ears, then a fan), the fills then dropped and the result measured on the piece itself (its
-/// θ, its holes, its displacement and folds).
+/// (`hole_fill::filled`: ears, then a fan), the fills then dropped and the result measured
+/// on the piece itself (its θ, its holes, its displacement and folds).
 fn run_piece_with_rims(
     mesh: &TriMesh,
     index: usize,
