@@ -5,7 +5,8 @@
 //! where the residual sits; speed [SIZES=…, REPS, TRACE=1, STEP_RATIO=1,
 //! BEST_OF=20 (kernel timings), ONLY_TARGET=zero|detail|none, SOLVE_HASH=1 (the bits of one solve)]; saddles [SEEDS=…, DIAG=1], the
 //! round-off robustness check; SHAPE=bcap for the bench cap, SHAPE=para [A=0.1, JITTER=0.3] for a shallow paraboloid; random [COUNT, NMIN, NMAX, SEED,
-//! TARGET, ROUGH]: a corpus of random pieces).
+//! TARGET, ROUGH]: a corpus of random pieces); holes [K, R, H, NMAX, BODY, UNITS, MSG=1] with
+//! FLATCUT_DATA: body patches with a hole, fixed against free rims).
 
 #![allow(clippy::unwrap_used, clippy::needless_range_loop)]
 
@@ -1185,9 +1186,10 @@ fn main() {
         "tail" => tail(),
         "coarsen" => coarsen_timing(),
         "random" => random(),
+        "holes" => holes(),
         other => {
             eprintln!(
-                "unknown table '{other}': use table, probe, probe_weights, probe_targets, real, bodies, speed, saddles or random"
+                "unknown table '{other}': use table, probe, probe_weights, probe_targets, real, bodies, patches, speed, saddles, tail, coarsen, random or holes"
             );
             std::process::exit(2);
         }
@@ -1275,5 +1277,104 @@ fn random() {
     println!(
         "total {target:?}: {conv}/{count} converged, {its} iterations, {facts} factorisations, {secs:.2} s, mean RMS displacement {:.5}",
         rms / count as f64
+    );
+}
+
+/// `holes` (FLATCUT_DATA): body patches with a hole, processed with the rims fixed and with
+/// `HoleRims::Free` (docs/algorithms/flattenable.md, "Holes"). Each patch is the geodesic
+/// ball of radius `R` mm (default 150) around one of `K` spread vertices (default 60) of
+/// `BODY` (default mh_male_generic, read in `UNITS` dm), without the faces whose centroids
+/// lie within `H` mm (default 25) of that vertex (its largest part); kept when it has two boundary loops and at
+/// most `NMAX` faces (default 1 500). One line per patch, then the counts: how many
+/// converge with fixed rims, and with free rims by which fill (or back on the fixed run).
+fn holes() {
+    let dir = std::env::var("FLATCUT_DATA").expect("set FLATCUT_DATA");
+    let body = std::env::var("BODY").unwrap_or("mh_male_generic".into());
+    let units = match std::env::var("UNITS").as_deref() {
+        Ok("mm") => flatcut_io::Units::Mm,
+        Ok("cm") => flatcut_io::Units::Cm,
+        Ok("m") => flatcut_io::Units::M,
+        _ => flatcut_io::Units::Dm,
+    };
+    let k: usize = env_or("K", 60);
+    let radius_mm: f64 = env_or("R", 150.0);
+    let hole_mm: f64 = env_or("H", 25.0);
+    let max_faces: usize = env_or("NMAX", 1500);
+    let path = std::path::Path::new(&dir).join(format!("{body}.obj"));
+    let mesh = flatcut_io::read_mesh(&path, units).unwrap().mesh;
+    let (mut patches, mut fixed_ok, mut by_ears, mut by_fans, mut fell_back, mut lost) =
+        (0, 0, 0, 0, 0, 0);
+    for centre in common::spread_vertices(&mesh, k) {
+        let ball = common::geodesic_ball(&mesh, centre, radius_mm);
+        let c = mesh.positions[centre as usize];
+        let ring = common::cut(&ball, |p| flatcut_mesh::vec3::dist(p, c) >= hole_mm);
+        let loops = flatcut_mesh::Topology::build(&ring)
+            .map(|t| t.boundary_loops().len())
+            .unwrap_or(0);
+        if loops != 2 || ring.face_count() > max_faces {
+            continue;
+        }
+        let run = |rims: HoleRims| {
+            let opts = ProcessOptions {
+                hole_rims: rims,
+                ..Default::default()
+            };
+            let (r, ok) = process_or_partial(&ring, &opts).ok()?;
+            Some((r.report.pieces[0].clone(), ok == "yes"))
+        };
+        // A ball whose cut leaves a vertex where two fans touch is not a piece (the error
+        // names it); such centres are skipped.
+        let Some((fixed, fixed_conv)) = run(HoleRims::Fixed) else {
+            continue;
+        };
+        let Some((free, free_conv)) = run(HoleRims::Free) else {
+            continue;
+        };
+        patches += 1;
+        let note = free
+            .messages
+            .iter()
+            .find(|m| m.starts_with("hole rims free"))
+            .cloned()
+            .unwrap_or_default();
+        let how = if !free_conv {
+            "not converged"
+        } else if note.contains("filled by ears") {
+            "ears"
+        } else if note.contains("filled by fans") {
+            "fans"
+        } else {
+            "fixed rims (fallback)"
+        };
+        fixed_ok += usize::from(fixed_conv);
+        match how {
+            "ears" => by_ears += 1,
+            "fans" => by_fans += 1,
+            "fixed rims (fallback)" if fixed_conv => fell_back += 1,
+            _ => lost += 1,
+        }
+        if std::env::var_os("MSG").is_some() && how != "ears" && how != "fans" {
+            for m in &free.messages {
+                println!("    {m}");
+            }
+        }
+        let worst_hole =
+            |p: &PieceReport| p.holes.iter().map(|h| h.error_rad()).fold(0.0, f64::max);
+        println!(
+            "v{centre}: {} faces, rim of {} vertices | fixed: {} θ_err {:.1e}, hole error {:.1e} | free: {how}, θ_err {:.1e}, hole error {:.1e}, {} iterations, RMS {:.3} mm, creased {}",
+            ring.face_count(),
+            fixed.holes.first().map_or(0, |h| h.vertices),
+            if fixed_conv { "conv" } else { "NOTCONV" },
+            fixed.final_theta_err,
+            worst_hole(&fixed),
+            free.final_theta_err,
+            worst_hole(&free),
+            free.iterations,
+            free.rms_displacement_mm,
+            free.creased_edges,
+        );
+    }
+    println!(
+        "{patches} patches: fixed rims converge on {fixed_ok}; free rims close by ears {by_ears}, by fans {by_fans}, fall back to the fixed run on {fell_back} of those that converge fixed; {lost} other"
     );
 }
