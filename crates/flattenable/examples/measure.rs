@@ -1305,13 +1305,16 @@ fn holes() {
     let (mut patches, mut fixed_ok, mut by_ears, mut by_fans, mut fell_back, mut lost) =
         (0, 0, 0, 0, 0, 0);
     for centre in common::spread_vertices(&mesh, k) {
-        let ball = common::geodesic_ball(&mesh, centre, radius_mm);
-        let c = mesh.positions[centre as usize];
-        let ring = common::cut(&ball, |p| flatcut_mesh::vec3::dist(p, c) >= hole_mm);
-        let loops = flatcut_mesh::Topology::build(&ring)
-            .map(|t| t.boundary_loops().len())
-            .unwrap_or(0);
-        if loops != 2 || ring.face_count() > max_faces {
+        let ring = common::ball_with_hole(&mesh, centre, radius_mm, hole_mm);
+        let Ok(topo) = flatcut_mesh::Topology::build(&ring) else {
+            continue;
+        };
+        // A ball whose cut leaves a vertex where two fans touch is not a piece (process
+        // names it in an error); such centres are skipped.
+        if topo.boundary_loops().len() != 2
+            || ring.face_count() > max_faces
+            || !topo.non_manifold_vertices().is_empty()
+        {
             continue;
         }
         let run = |rims: HoleRims| {
@@ -1322,8 +1325,6 @@ fn holes() {
             let (r, ok) = process_or_partial(&ring, &opts).ok()?;
             Some((r.report.pieces[0].clone(), ok == "yes"))
         };
-        // A ball whose cut leaves a vertex where two fans touch is not a piece (the error
-        // names it); such centres are skipped.
         let Some((fixed, fixed_conv)) = run(HoleRims::Fixed) else {
             continue;
         };

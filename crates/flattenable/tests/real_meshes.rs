@@ -405,3 +405,79 @@ fn patches_cut_from_bodies() {
         );
     }
 }
+
+/// `HoleRims::Free` on body patches with a hole (`measure -- holes`, docs/algorithms/
+/// flattenable.md, "Holes"): patches of mh_male_generic (read in decimetres, as MakeHuman
+/// exports) around 60 spread vertices, with 25 mm holes in 150 mm balls and 50 mm holes in
+/// 180 mm ones. Where the fixed-rim run converges and its hole encloses less than π/2 of
+/// Gaussian curvature (its development's turning residual; a quarter of a hemisphere's 2π),
+/// free rims must close the hole with θ = 2π. Measured: 72 patches, 68 converging with fixed
+/// rims; of those, the 64 under π/2 and one at 1.64 rad close, and the 3 that fall back
+/// enclose 1.82, 2.73 and 2.85 rad. Wherever free rims fall back, the result is the
+/// fixed-rim run's, bit for bit, and the message says the filled piece did not converge.
+#[test]
+fn free_rims_close_the_holes_of_body_patches_that_enclose_under_a_quarter_hemisphere() {
+    /// Enclosed curvature under which a hole must close (radians; measured: the holes closed
+    /// enclose up to 1.64 rad, the holes left from 1.82 rad).
+    const MUST_CLOSE_BELOW_RAD: f64 = std::f64::consts::FRAC_PI_2;
+    let Some(path) = data("mh_male_generic.obj") else {
+        eprintln!("FLATCUT_DATA unset: skipping the holed patches of mh_male_generic");
+        return;
+    };
+    let body = flatcut_io::read_mesh(&path, flatcut_io::Units::Dm)
+        .unwrap()
+        .mesh;
+    let centres = common::spread_vertices(&body, 60);
+    let (mut checked, mut closed) = (0usize, 0usize);
+    for (radius_mm, hole_mm, max_faces) in [(150.0, 25.0, 1500), (180.0, 50.0, 2000)] {
+        for &centre in &centres {
+            let patch = common::ball_with_hole(&body, centre, radius_mm, hole_mm);
+            let topo = Topology::build(&patch).unwrap();
+            if topo.boundary_loops().len() != 2
+                || patch.face_count() > max_faces
+                || !topo.non_manifold_vertices().is_empty()
+            {
+                continue;
+            }
+            let run = |hole_rims| {
+                let opts = ProcessOptions {
+                    hole_rims,
+                    ..Default::default()
+                };
+                match process(&patch, &opts) {
+                    Ok(r) => r,
+                    Err(FlattenableError::NotConverged { partial, .. }) => *partial,
+                    Err(e) => panic!("v{centre}: {e}"),
+                }
+            };
+            let fixed = run(flatcut_flattenable::HoleRims::Fixed);
+            let free = run(flatcut_flattenable::HoleRims::Free);
+            let (pf, pr) = (&fixed.report.pieces[0], &free.report.pieces[0]);
+            let label = format!("v{centre} ({hole_mm} mm hole)");
+            let enclosed_rad = pf.holes[0].turning_residual_rad.abs();
+            let fell_back = pr
+                .messages
+                .iter()
+                .any(|m| m.starts_with("hole rims free") && m.contains("did not converge"));
+            if fell_back {
+                assert_eq!(free.mesh.positions, fixed.mesh.positions, "{label}");
+                assert_eq!(pr.converged, pf.converged, "{label}");
+            }
+            checked += 1;
+            if pf.converged && enclosed_rad < MUST_CLOSE_BELOW_RAD {
+                assert!(
+                    !fell_back && pr.converged && pr.holes.iter().all(|h| h.closes(1e-9)),
+                    "{label}: a hole enclosing {enclosed_rad:.3} rad stayed open with free rims: {:?}",
+                    pr.messages
+                );
+                closed += 1;
+            }
+        }
+    }
+    // The patches are deterministic (measured: 72 checked, 64 required to close): the
+    // property is not to hold vacuously.
+    assert!(
+        checked >= 70 && closed >= 60,
+        "{checked} patches, {closed} closed"
+    );
+}

@@ -304,6 +304,17 @@ pub fn geodesic_ball(mesh: &TriMesh, centre: u32, radius: f64) -> TriMesh {
     largest_part(mesh, &faces)
 }
 
+/// A body patch with one hole: the geodesic ball of `radius` around `centre`
+/// ([`geodesic_ball`]) without the faces whose centroids lie within `hole` of it (Euclidean),
+/// its largest part. Two boundary loops where the ball is a disk and the hole lies inside it;
+/// the caller checks.
+pub fn ball_with_hole(mesh: &TriMesh, centre: u32, radius: f64, hole: f64) -> TriMesh {
+    let c = mesh.positions[centre as usize];
+    cut(&geodesic_ball(mesh, centre, radius), |p| {
+        flatcut_mesh::vec3::dist(p, c) >= hole
+    })
+}
+
 /// Pieces of the MakeHuman body (model units = dm; y up, +z front; MANIFEST landmarks):
 /// upper back, chest, left shoulder cap (a ball: two boundary loops), left front thigh.
 pub fn body_pieces(body: &TriMesh) -> Vec<(&'static str, TriMesh)> {
