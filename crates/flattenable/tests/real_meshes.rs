@@ -414,7 +414,8 @@ fn patches_cut_from_bodies() {
 /// free rims must close the hole with θ = 2π. Measured: 72 patches, 68 converging with fixed
 /// rims; of those, the 64 under π/2 and one at 1.64 rad close, and the 3 that fall back
 /// enclose 1.82, 2.73 and 2.85 rad. Wherever free rims fall back, the result is the
-/// fixed-rim run's, bit for bit, and the message says the filled piece did not converge.
+/// fixed-rim run's, bit for bit, and the message says the filled piece did not converge
+/// and, for a hole over π/2, how much curvature it encloses.
 #[test]
 fn free_rims_close_the_holes_of_body_patches_that_enclose_under_a_quarter_hemisphere() {
     /// Enclosed curvature under which a hole must close (radians; measured: the holes closed
@@ -462,6 +463,11 @@ fn free_rims_close_the_holes_of_body_patches_that_enclose_under_a_quarter_hemisp
             if fell_back {
                 assert_eq!(free.mesh.positions, fixed.mesh.positions, "{label}");
                 assert_eq!(pr.converged, pf.converged, "{label}");
+                // The message names the enclosed curvature where it explains the failure.
+                let explained = pr.messages.iter().any(|m| {
+                    m.starts_with("hole rims free") && m.contains("rad of Gaussian curvature")
+                });
+                assert_eq!(explained, enclosed_rad > MUST_CLOSE_BELOW_RAD, "{label}");
             }
             checked += 1;
             if pf.converged && enclosed_rad < MUST_CLOSE_BELOW_RAD {
