@@ -1290,12 +1290,10 @@ fn random() {
 fn holes() {
     let dir = std::env::var("FLATCUT_DATA").expect("set FLATCUT_DATA");
     let body = std::env::var("BODY").unwrap_or("mh_male_generic".into());
-    let units = match std::env::var("UNITS").as_deref() {
-        Ok("mm") => flatcut_io::Units::Mm,
-        Ok("cm") => flatcut_io::Units::Cm,
-        Ok("m") => flatcut_io::Units::M,
-        _ => flatcut_io::Units::Dm,
-    };
+    let units: flatcut_io::Units = std::env::var("UNITS")
+        .ok()
+        .and_then(|u| u.parse().ok())
+        .unwrap_or(flatcut_io::Units::Dm);
     let k: usize = env_or("K", 60);
     let radius_mm: f64 = env_or("R", 150.0);
     let hole_mm: f64 = env_or("H", 25.0);
@@ -1305,18 +1303,10 @@ fn holes() {
     let (mut patches, mut fixed_ok, mut by_ears, mut by_fans, mut fell_back, mut lost) =
         (0, 0, 0, 0, 0, 0);
     for centre in common::spread_vertices(&mesh, k) {
-        let ring = common::ball_with_hole(&mesh, centre, radius_mm, hole_mm);
-        let Ok(topo) = flatcut_mesh::Topology::build(&ring) else {
+        let Some(ring) = common::ball_with_hole(&mesh, centre, (radius_mm, hole_mm), max_faces)
+        else {
             continue;
         };
-        // A ball whose cut leaves a vertex where two fans touch is not a piece (process
-        // names it in an error); such centres are skipped.
-        if topo.boundary_loops().len() != 2
-            || ring.face_count() > max_faces
-            || !topo.non_manifold_vertices().is_empty()
-        {
-            continue;
-        }
         let run = |rims: HoleRims| {
             let opts = ProcessOptions {
                 hole_rims: rims,

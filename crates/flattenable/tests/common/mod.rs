@@ -306,13 +306,24 @@ pub fn geodesic_ball(mesh: &TriMesh, centre: u32, radius: f64) -> TriMesh {
 
 /// A body patch with one hole: the geodesic ball of `radius` around `centre`
 /// ([`geodesic_ball`]) without the faces whose centroids lie within `hole` of it (Euclidean),
-/// its largest part. Two boundary loops where the ball is a disk and the hole lies inside it;
-/// the caller checks.
-pub fn ball_with_hole(mesh: &TriMesh, centre: u32, radius: f64, hole: f64) -> TriMesh {
+/// its largest part; `None` unless that has two boundary loops (the ball a disk, the hole
+/// inside it), at most `max_faces` faces and no vertex where two fans touch (the cut's
+/// artefact, which `process` refuses with a named error).
+pub fn ball_with_hole(
+    mesh: &TriMesh,
+    centre: u32,
+    (radius, hole): (f64, f64),
+    max_faces: usize,
+) -> Option<TriMesh> {
     let c = mesh.positions[centre as usize];
-    cut(&geodesic_ball(mesh, centre, radius), |p| {
+    let patch = cut(&geodesic_ball(mesh, centre, radius), |p| {
         flatcut_mesh::vec3::dist(p, c) >= hole
-    })
+    });
+    let topo = flatcut_mesh::Topology::build(&patch).ok()?;
+    (topo.boundary_loops().len() == 2
+        && patch.face_count() <= max_faces
+        && topo.non_manifold_vertices().is_empty())
+    .then_some(patch)
 }
 
 /// Pieces of the MakeHuman body (model units = dm; y up, +z front; MANIFEST landmarks):
